@@ -1,0 +1,76 @@
+#include "core/body_model.h"
+
+#include <algorithm>
+
+#include "absl/strings/str_cat.h"
+#include "core/macro_weights.h"
+#include "core/obj_io.h"
+#include "core/status_macros.h"
+
+namespace fitbase::core {
+namespace {
+
+// The body group's faces: in hm08 they are exactly the faces whose corners all lie in
+// 0..kBodyVertexCount-1, which avoids depending on OBJ group names that OpenMesh drops.
+PolygonFaces BodyFacesOf(const PolygonFaces& faces) {
+  PolygonFaces body;
+  size_t corner = 0;
+  for (int32_t size : faces.sizes) {
+    const auto first = faces.indices.begin() + static_cast<std::ptrdiff_t>(corner);
+    corner += static_cast<size_t>(size);
+    if (std::all_of(first, first + size, [](int32_t v) { return v < kBodyVertexCount; })) {
+      body.sizes.push_back(size);
+      body.indices.insert(body.indices.end(), first, first + size);
+    }
+  }
+  return body;
+}
+
+}  // namespace
+
+absl::StatusOr<BodyModel> BodyModel::Load(const std::filesystem::path& data_dir) {
+  BodyModel model;
+  ASSIGN_OR_RETURN(Mesh base, ReadObj(data_dir / "base.obj"));
+  if (base.vertex_count() != kFullVertexCount) {
+    return absl::InvalidArgumentError(absl::StrCat((data_dir / "base.obj").string(), " has ",
+                                                   base.vertex_count(), " vertices, expected ",
+                                                   kFullVertexCount, " (MakeHuman hm08)"));
+  }
+  model.base_ = std::move(base.positions);
+  model.full_faces_ = std::move(base.faces);
+  model.body_faces_ = BodyFacesOf(model.full_faces_);
+  for (std::string& path : AllTargetPaths()) {
+    ASSIGN_OR_RETURN(Target target,
+                     ReadTargetFile(data_dir / "targets" / path, kFullVertexCount));
+    model.targets_.emplace(std::move(path), std::move(target));
+  }
+  return model;
+}
+
+absl::StatusOr<Positions> BodyModel::DeformedPositions(const BodyParams& params) const {
+  RETURN_IF_ERROR(ValidateBodyParams(params));
+  Positions positions = base_;
+  for (const TargetWeight& tw : ComputeTargetWeights(params)) {
+    const Target& target = targets_.at(tw.path);
+    for (size_t i = 0; i < target.indices.size(); ++i) {
+      positions.row(target.indices[i]) += tw.weight * target.offsets.row(static_cast<Eigen::Index>(i));
+    }
+  }
+  return positions;
+}
+
+absl::StatusOr<Mesh> BodyModel::BuildFullMesh(const BodyParams& params) const {
+  ASSIGN_OR_RETURN(Positions positions, DeformedPositions(params));
+  return Mesh{.topology_id = std::string(kFullTopologyId),
+              .positions = positions * kMetersPerDataUnit,
+              .faces = full_faces_};
+}
+
+absl::StatusOr<Mesh> BodyModel::BuildBody(const BodyParams& params) const {
+  ASSIGN_OR_RETURN(Positions positions, DeformedPositions(params));
+  return Mesh{.topology_id = std::string(kBodyTopologyId),
+              .positions = positions.topRows(kBodyVertexCount) * kMetersPerDataUnit,
+              .faces = body_faces_};
+}
+
+}  // namespace fitbase::core

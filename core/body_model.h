@@ -1,0 +1,54 @@
+#ifndef FITBASE_CORE_BODY_MODEL_H_
+#define FITBASE_CORE_BODY_MODEL_H_
+
+#include <filesystem>
+#include <string>
+#include "absl/strings/string_view.h"
+#include <unordered_map>
+
+#include "absl/status/statusor.h"
+#include "core/body_params.h"
+#include "core/mesh.h"
+#include "core/target_file.h"
+
+namespace fitbase::core {
+
+inline constexpr int64_t kFullVertexCount = 19158;  // hm08, with helper and joint geometry.
+inline constexpr int64_t kBodyVertexCount = 13380;  // The `body` group: vertices 0..13379.
+inline constexpr absl::string_view kFullTopologyId = "makehuman-hm08";
+inline constexpr absl::string_view kBodyTopologyId = "makehuman-hm08-body";
+// base.obj and the targets are in decimeters.
+inline constexpr double kMetersPerDataUnit = 0.1;
+
+// The MakeHuman body model: the hm08 reference mesh and every target the macro parameters
+// and local modifiers can weight, loaded once, so that a new body costs one sparse pass.
+class BodyModel {
+ public:
+  // Loads base.obj and targets/ from `data_dir` (data/makehuman). Every target a parameter
+  // can name must exist and parse; the error names the file.
+  static absl::StatusOr<BodyModel> Load(const std::filesystem::path& data_dir);
+
+  // The whole 19,158-vertex mesh for `params`, meters: body, helpers (garments bind to
+  // `helper-tights` and `helper-skirt`) and joints. Faces are those of base.obj.
+  absl::StatusOr<Mesh> BuildFullMesh(const BodyParams& params) const;
+
+  // The 13,380-vertex body (skin) avatar for `params`, meters, with the body group's faces.
+  absl::StatusOr<Mesh> BuildBody(const BodyParams& params) const;
+
+  // Body faces, shared by every avatar of topology kBodyTopologyId.
+  const PolygonFaces& body_faces() const { return body_faces_; }
+
+ private:
+  BodyModel() = default;
+  // base + sum(weight * target), in data units (decimeters).
+  absl::StatusOr<Positions> DeformedPositions(const BodyParams& params) const;
+
+  Positions base_;
+  PolygonFaces full_faces_;
+  PolygonFaces body_faces_;
+  std::unordered_map<std::string, Target> targets_;
+};
+
+}  // namespace fitbase::core
+
+#endif  // FITBASE_CORE_BODY_MODEL_H_

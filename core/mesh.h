@@ -1,0 +1,37 @@
+#ifndef FITBASE_CORE_MESH_H_
+#define FITBASE_CORE_MESH_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "Eigen/Core"
+
+namespace fitbase::core {
+
+// Vertex positions, one row per vertex: V x 3, meters unless a function says otherwise.
+using Positions = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+// Polygon faces in the flat layout of USD and Draco: face f has sizes[f] corners, listed in
+// `indices` after those of faces 0..f-1. Garments mix triangles and quads, so no fixed arity.
+struct PolygonFaces {
+  std::vector<int32_t> sizes;
+  std::vector<int32_t> indices;
+
+  int64_t face_count() const { return static_cast<int64_t>(sizes.size()); }
+  bool operator==(const PolygonFaces&) const = default;
+};
+
+// A surface mesh whose vertex order is part of its identity: every linear model in fitbase
+// relates vertex i of one mesh to vertex i of another of the same topology.
+struct Mesh {
+  std::string topology_id;
+  Positions positions;
+  PolygonFaces faces;
+
+  int64_t vertex_count() const { return positions.rows(); }
+};
+
+}  // namespace fitbase::core
+
+#endif  // FITBASE_CORE_MESH_H_

@@ -1,0 +1,78 @@
+#include "core/obj_io.h"
+
+#include <cmath>
+#include <string>
+
+#include "OpenMesh/Core/IO/MeshIO.hh"
+#include "OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "core/file_util.h"
+
+namespace fitbase::core {
+namespace {
+
+struct DoubleTraits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+};
+using OpenMeshPolyMesh = OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>;
+
+}  // namespace
+
+absl::StatusOr<Mesh> ReadObj(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path)) {
+    return absl::NotFoundError(absl::StrCat("no mesh file ", path.string()));
+  }
+  OpenMeshPolyMesh om;
+  OpenMesh::IO::Options options;
+  if (!OpenMesh::IO::read_mesh(om, path.string(), options)) {
+    return absl::InvalidArgumentError(absl::StrCat("OpenMesh cannot read ", path.string()));
+  }
+  if (om.n_vertices() == 0) {
+    return absl::InvalidArgumentError(absl::StrCat(path.string(), " has no vertices"));
+  }
+  Mesh mesh;
+  mesh.positions.resize(static_cast<Eigen::Index>(om.n_vertices()), 3);
+  for (const auto vh : om.vertices()) {
+    const OpenMesh::Vec3d& p = om.point(vh);
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!std::isfinite(p[axis])) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            path.string(), ": vertex ", vh.idx(), " has a non-finite coordinate"));
+      }
+      mesh.positions(vh.idx(), axis) = p[axis];
+    }
+  }
+  mesh.faces.sizes.reserve(om.n_faces());
+  for (const auto fh : om.faces()) {
+    int size = 0;
+    for (const auto vh : om.fv_range(fh)) {
+      mesh.faces.indices.push_back(vh.idx());
+      ++size;
+    }
+    mesh.faces.sizes.push_back(size);
+  }
+  return mesh;
+}
+
+absl::Status WriteObj(const std::filesystem::path& path, const Mesh& mesh) {
+  std::string text;
+  text.reserve(static_cast<size_t>(mesh.vertex_count()) * 40 + mesh.faces.indices.size() * 8);
+  absl::StrAppend(&text, "# fitbase mesh, topology ",
+                  mesh.topology_id.empty() ? "unnamed" : mesh.topology_id, ", meters\n");
+  for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
+    absl::StrAppendFormat(&text, "v %.9g %.9g %.9g\n", mesh.positions(v, 0),
+                          mesh.positions(v, 1), mesh.positions(v, 2));
+  }
+  size_t corner = 0;
+  for (int32_t size : mesh.faces.sizes) {
+    text += 'f';
+    for (int32_t i = 0; i < size; ++i) {
+      absl::StrAppend(&text, " ", mesh.faces.indices[corner++] + 1);
+    }
+    text += '\n';
+  }
+  return WriteFileAtomically(path, text);
+}
+
+}  // namespace fitbase::core

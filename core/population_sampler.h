@@ -1,0 +1,24 @@
+#ifndef FITBASE_CORE_POPULATION_SAMPLER_H_
+#define FITBASE_CORE_POPULATION_SAMPLER_H_
+
+#include <cstdint>
+#include <string_view>
+
+#include "absl/status/statusor.h"
+#include "core/body_params.h"
+
+namespace fitbase::core {
+
+enum class PopulationPreset { kWomen, kMen, kAll };
+
+absl::StatusOr<PopulationPreset> ParsePopulationPreset(std::string_view name);
+std::string_view PopulationPresetName(PopulationPreset preset);
+
+// Avatar number `index` of the population (preset, seed). Each avatar draws from its own
+// generator seeded from (seed, index), so a population of N avatars is the prefix of one of
+// N + M avatars, and the result is bit-identical on every platform.
+BodyParams SampleBodyParams(PopulationPreset preset, uint64_t seed, uint64_t index);
+
+}  // namespace fitbase::core
+
+#endif  // FITBASE_CORE_POPULATION_SAMPLER_H_

@@ -1,0 +1,223 @@
+// fitbase basis build|info|project|example|eval: the PCA avatar basis.
+#include <cmath>
+#include <iostream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "core/body_model.h"
+#include "core/obj_io.h"
+#include "core/status_macros.h"
+#include "proto/avatar_basis_codec.h"
+#include "proto/json_codec.h"
+#include "proto/mesh_codec.h"
+#include "proto/message_file.h"
+#include "services/avatar_basis_builder.h"
+#include "services/avatar_file.h"
+#include "services/cli_context.h"
+#include "services/population_folder.h"
+
+namespace fitbase::services {
+namespace {
+
+struct BasisFlags {
+  std::string population;
+  std::string basis;
+  std::string avatar;
+  std::string out;
+  double max_error_mm = 1.0;
+  int components = 0;
+  double variance = 0.0;
+  int component = 0;
+  double sigma = 1.0;
+  bool json = false;
+};
+
+struct LoadedBasis {
+  v1::AvatarBasis message;
+  core::PcaBasis pca;
+};
+
+absl::StatusOr<LoadedBasis> LoadBasis(const std::string& path) {
+  LoadedBasis basis;
+  RETURN_IF_ERROR(proto::ReadMessageFile(path, &basis.message));
+  ASSIGN_OR_RETURN(basis.pca, proto::PcaBasisFromProto(basis.message));
+  return basis;
+}
+
+Eigen::VectorXd Flatten(const core::Mesh& mesh) {
+  return Eigen::Map<const Eigen::VectorXd>(mesh.positions.data(), mesh.positions.size());
+}
+
+v1::AvatarWeights ProjectAvatar(const LoadedBasis& basis, const core::Mesh& avatar) {
+  const Eigen::VectorXd x = Flatten(avatar);
+  const Eigen::VectorXd weights = core::ProjectOntoBasis(basis.pca, x);
+  const core::ReconstructionError error =
+      core::MeasureReconstructionError(x, core::ReconstructFromWeights(basis.pca, weights));
+  v1::AvatarWeights result;
+  result.set_basis_id(basis.message.id());
+  result.mutable_weights()->Assign(weights.begin(), weights.end());
+  result.set_mean_error_mm(error.mean_mm);
+  result.set_max_error_mm(error.max_mm);
+  return result;
+}
+
+absl::Status RunBuild(const BasisFlags& flags, const CLI::App& command) {
+  core::ComponentSelection selection;
+  const int rules = static_cast<int>(command.count("--max-error-mm") > 0) +
+                    static_cast<int>(command.count("--components") > 0) +
+                    static_cast<int>(command.count("--variance") > 0);
+  if (rules > 1) {
+    return absl::InvalidArgumentError(
+        "give at most one of --max-error-mm, --components and --variance");
+  }
+  if (command.count("--components") > 0) {
+    selection.rule = core::ComponentSelection::Rule::kCount;
+    selection.count = flags.components;
+  } else if (command.count("--variance") > 0) {
+    selection.rule = core::ComponentSelection::Rule::kVarianceFraction;
+    selection.variance_fraction = flags.variance;
+  } else if (!(flags.max_error_mm > 0) || !std::isfinite(flags.max_error_mm)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("--max-error-mm is ", flags.max_error_mm, "; expected a positive number"));
+  } else {
+    selection.max_mean_error_mm = flags.max_error_mm;
+  }
+  ASSIGN_OR_RETURN(Population population, ReadPopulationFolder(flags.population));
+  ASSIGN_OR_RETURN(v1::AvatarBasis basis, BuildAvatarBasis(population, selection));
+  RETURN_IF_ERROR(proto::WriteMessageFile(flags.out, basis));
+  double explained = 0;
+  for (double r : basis.explained_variance_ratio()) explained += r;
+  std::cout << absl::StrFormat(
+      "basis %s: %d components from %d avatars, %.2f%% of the variance, training error mean "
+      "%.3f mm, max %.3f mm\nwrote %s\n",
+      basis.id(), basis.component_count(), population.samples.cols(), 100 * explained,
+      basis.training_mean_error_mm(), basis.training_max_error_mm(), flags.out);
+  return absl::OkStatus();
+}
+
+absl::Status RunInfo(const BasisFlags& flags) {
+  ASSIGN_OR_RETURN(LoadedBasis basis, LoadBasis(flags.basis));
+  const v1::AvatarBasis& m = basis.message;
+  std::cout << "id          " << m.id() << "\n"
+            << "topology    " << m.topology_id() << " (" << m.mean().vertex_count()
+            << " vertices)\n"
+            << "population  preset " << (m.population().preset().empty() ? "-" : m.population().preset())
+            << ", seed " << m.population().seed() << ", " << m.population().count() << " avatars\n"
+            << "selection   " << proto::ToJson(m.selection()) << "\n"
+            << absl::StrFormat("training    mean error %.3f mm, max %.3f mm\n",
+                               m.training_mean_error_mm(), m.training_max_error_mm())
+            << "components  " << m.component_count() << "\n\n"
+            << "  k   sigma_mm  explained%  cumulative%\n";
+  double cumulative = 0;
+  for (uint32_t k = 0; k < m.component_count(); ++k) {
+    cumulative += m.explained_variance_ratio(k);
+    std::cout << absl::StrFormat("%3d %10.2f %11.4f %12.4f\n", k,
+                                 1000 * std::sqrt(m.variances(k)),
+                                 100 * m.explained_variance_ratio(k), 100 * cumulative);
+  }
+  return absl::OkStatus();
+}
+
+absl::Status RunProject(const BasisFlags& flags) {
+  ASSIGN_OR_RETURN(LoadedBasis basis, LoadBasis(flags.basis));
+  ASSIGN_OR_RETURN(core::Mesh avatar, ReadAvatarObj(flags.avatar));
+  const v1::AvatarWeights result = ProjectAvatar(basis, avatar);
+  if (flags.json) {
+    std::cout << proto::ToJson(result) << "\n";
+    return absl::OkStatus();
+  }
+  std::cout << "basis    " << result.basis_id() << "\nweights ";
+  for (double w : result.weights()) std::cout << absl::StrFormat(" %.6g", w);
+  std::cout << absl::StrFormat("\nreconstruction error: mean %.3f mm, max %.3f mm\n",
+                               result.mean_error_mm(), result.max_error_mm());
+  return absl::OkStatus();
+}
+
+absl::Status RunExample(const BasisFlags& flags) {
+  ASSIGN_OR_RETURN(LoadedBasis basis, LoadBasis(flags.basis));
+  const int n = static_cast<int>(basis.pca.components.cols());
+  if (flags.component < 0 || flags.component >= n) {
+    return absl::InvalidArgumentError(absl::StrCat("--component is ", flags.component,
+                                                   "; this basis has components 0 to ", n - 1));
+  }
+  if (!std::isfinite(flags.sigma)) return absl::InvalidArgumentError("--sigma must be finite");
+  const Eigen::VectorXd x = core::ExampleFromComponent(basis.pca, flags.component, flags.sigma);
+  ASSIGN_OR_RETURN(core::Mesh mesh, proto::MeshFromProto(basis.message.mean()));
+  mesh.positions = Eigen::Map<const core::Positions>(x.data(), mesh.vertex_count(), 3);
+  RETURN_IF_ERROR(core::WriteObj(flags.out, mesh));
+  std::cout << "wrote " << flags.out << ": mean + " << flags.sigma << " sigma x component "
+            << flags.component << "\n";
+  return absl::OkStatus();
+}
+
+absl::Status RunEval(const BasisFlags& flags) {
+  ASSIGN_OR_RETURN(LoadedBasis basis, LoadBasis(flags.basis));
+  ASSIGN_OR_RETURN(Population population, ReadPopulationFolder(flags.population));
+  double sum_mean = 0, worst_mean = 0, worst_max = 0;
+  const Eigen::Index count = population.samples.cols();
+  for (Eigen::Index i = 0; i < count; ++i) {
+    const Eigen::VectorXd x = population.samples.col(i);
+    const core::ReconstructionError error = core::MeasureReconstructionError(
+        x, core::ReconstructFromWeights(basis.pca, core::ProjectOntoBasis(basis.pca, x)));
+    sum_mean += error.mean_mm;
+    worst_mean = std::max(worst_mean, error.mean_mm);
+    worst_max = std::max(worst_max, error.max_mm);
+  }
+  std::cout << absl::StrFormat(
+      "%d avatars of %s on basis %.12s (%d components): per-vertex error mean %.3f mm "
+      "(worst avatar %.3f mm), max %.3f mm\n",
+      count, flags.population, basis.message.id(), basis.message.component_count(),
+      sum_mean / static_cast<double>(count), worst_mean, worst_max);
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+void AddBasisCommands(CLI::App& app, CliContext& context) {
+  auto flags = std::make_shared<BasisFlags>();
+  CLI::App* basis = app.add_subcommand("basis", "The PCA avatar basis");
+  basis->require_subcommand(1);
+
+  CLI::App* build = basis->add_subcommand("build", "Build a basis from a population folder");
+  build->add_option("--population", flags->population, "Population folder")->required();
+  build->add_option("--max-error-mm", flags->max_error_mm,
+                    "Keep the fewest components whose mean per-vertex training error is at "
+                    "most this (default: 1 mm)");
+  build->add_option("--components", flags->components, "Keep exactly this many components");
+  build->add_option("--variance", flags->variance,
+                    "Keep the fewest components explaining this share of variance (0, 1]");
+  build->add_option("--out", flags->out, "Output basis file (.fbb)")->required();
+  build->callback([&context, flags, build] {
+    context.action = [flags, build] { return RunBuild(*flags, *build); };
+  });
+
+  CLI::App* info = basis->add_subcommand("info", "Print a basis: id, components, variance");
+  info->add_option("basis", flags->basis, "Basis file (.fbb)")->required();
+  info->callback([&context, flags] { context.action = [flags] { return RunInfo(*flags); }; });
+
+  CLI::App* project = basis->add_subcommand(
+      "project", "Project an avatar: weights and reconstruction error");
+  project->add_option("--basis", flags->basis, "Basis file (.fbb)")->required();
+  project->add_option("--avatar", flags->avatar, "Avatar OBJ (meters)")->required();
+  project->add_flag("--json", flags->json,
+                    "Print JSON with keys weights, mean_error_mm, max_error_mm, basis_id");
+  project->callback(
+      [&context, flags] { context.action = [flags] { return RunProject(*flags); }; });
+
+  CLI::App* example = basis->add_subcommand(
+      "example", "Write the example avatar mean + sigma * sigma_k * component_k");
+  example->add_option("--basis", flags->basis, "Basis file (.fbb)")->required();
+  example->add_option("--component", flags->component, "Component index k, from 0")->required();
+  example->add_option("--sigma", flags->sigma, "Multiple of the component's standard deviation");
+  example->add_option("--out", flags->out, "Output OBJ")->required();
+  example->callback(
+      [&context, flags] { context.action = [flags] { return RunExample(*flags); }; });
+
+  CLI::App* eval = basis->add_subcommand(
+      "eval", "Reconstruction error of every avatar of a (held-out) population folder");
+  eval->add_option("--basis", flags->basis, "Basis file (.fbb)")->required();
+  eval->add_option("--population", flags->population, "Population folder")->required();
+  eval->callback([&context, flags] { context.action = [flags] { return RunEval(*flags); }; });
+}
+
+}  // namespace fitbase::services

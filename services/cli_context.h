@@ -1,0 +1,30 @@
+#ifndef FITBASE_SERVICES_CLI_CONTEXT_H_
+#define FITBASE_SERVICES_CLI_CONTEXT_H_
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "CLI/CLI.hpp"
+#include "absl/status/status.h"
+
+namespace fitbase::services {
+
+// Shared by the `fitbase` subcommands: each parses its flags into its own state and sets
+// `action`, which main runs after parsing, so flag errors and run errors are reported apart.
+struct CliContext {
+  std::string data_dir;  // --data, resolved by ResolveDataDir().
+  std::function<absl::Status()> action;
+};
+
+// --data if given, else $FITBASE_DATA, else data/makehuman beside the build folder of this
+// executable, else ./data/makehuman.
+std::filesystem::path ResolveDataDir(const CliContext& context);
+
+void AddAvatarCommand(CLI::App& app, CliContext& context);
+void AddPopulationCommand(CLI::App& app, CliContext& context);
+void AddBasisCommands(CLI::App& app, CliContext& context);
+
+}  // namespace fitbase::services
+
+#endif  // FITBASE_SERVICES_CLI_CONTEXT_H_
