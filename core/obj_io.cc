@@ -7,7 +7,10 @@
 #include "OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/match.h"
+#include "absl/strings/str_split.h"
 #include "core/file_util.h"
+#include "core/status_macros.h"
 
 namespace fitbase::core {
 namespace {
@@ -16,6 +19,22 @@ struct DoubleTraits : OpenMesh::DefaultTraits {
   using Point = OpenMesh::Vec3d;
 };
 using OpenMeshPolyMesh = OpenMesh::PolyMesh_ArrayKernelT<DoubleTraits>;
+
+struct ElementCounts {
+  int64_t vertices = 0;
+  int64_t faces = 0;
+};
+
+// Counts `v` and `f` lines. OpenMesh skips a vertex line it cannot parse ("nan") and a face it
+// cannot add (non-manifold), which would silently shift vertex order or drop topology.
+ElementCounts CountObjElements(absl::string_view text) {
+  ElementCounts counts;
+  for (absl::string_view line : absl::StrSplit(text, '\n')) {
+    if (absl::StartsWith(line, "v ") || absl::StartsWith(line, "v\t")) ++counts.vertices;
+    if (absl::StartsWith(line, "f ") || absl::StartsWith(line, "f\t")) ++counts.faces;
+  }
+  return counts;
+}
 
 }  // namespace
 
@@ -30,6 +49,18 @@ absl::StatusOr<Mesh> ReadObj(const std::filesystem::path& path) {
   }
   if (om.n_vertices() == 0) {
     return absl::InvalidArgumentError(absl::StrCat(path.string(), " has no vertices"));
+  }
+  ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
+  const ElementCounts counts = CountObjElements(text);
+  if (counts.vertices != static_cast<int64_t>(om.n_vertices())) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        path.string(), ": ", counts.vertices - static_cast<int64_t>(om.n_vertices()), " of ",
+        counts.vertices, " vertex lines are not three finite numbers"));
+  }
+  if (counts.faces != static_cast<int64_t>(om.n_faces())) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        path.string(), ": ", counts.faces - static_cast<int64_t>(om.n_faces()), " of ",
+        counts.faces, " faces are invalid (bad vertex index or non-manifold)"));
   }
   Mesh mesh;
   mesh.positions.resize(static_cast<Eigen::Index>(om.n_vertices()), 3);

@@ -1,5 +1,6 @@
 #include "core/pca_basis.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "Eigen/Eigenvalues"
@@ -15,6 +16,9 @@ constexpr double kMmPerMeter = 1000.0;
 // Eigenvalues of the Gram matrix carry an absolute error near eps * lambda_max, so modes below
 // this relative size are rounding noise (centering alone always leaves one such mode).
 constexpr double kNullModeRelativeTolerance = 1e-12;
+// Centering rounds each entry by about eps * |x|, so (near-)identical samples still show modes
+// of that size; spread below this share of the samples' norm counts as no variance at all.
+constexpr double kCenteringNoiseTolerance = 1e-12;
 
 // The non-null eigenpairs of the centered Gram matrix, eigenvalues descending.
 struct Modes {
@@ -59,15 +63,15 @@ absl::Status ValidateSelection(const ComponentSelection& selection) {
       return absl::OkStatus();
     case Rule::kVarianceFraction:
       if (!(selection.variance_fraction > 0.0 && selection.variance_fraction <= 1.0)) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "variance_fraction must be in (0, 1], got ", selection.variance_fraction));
+        return absl::InvalidArgumentError(
+            absl::StrCat("variance_fraction must be in (0, 1], got ", selection.variance_fraction));
       }
       return absl::OkStatus();
   }
   return absl::InvalidArgumentError("unknown component selection rule");
 }
 
-absl::StatusOr<Modes> ComputeModes(const Eigen::MatrixXd& centered) {
+absl::StatusOr<Modes> ComputeModes(const Eigen::MatrixXd& centered, double samples_norm) {
   const Eigen::Index k = centered.cols();
   Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(k, k);
   gram.selfadjointView<Eigen::Lower>().rankUpdate(centered.transpose());
@@ -77,13 +81,15 @@ absl::StatusOr<Modes> ComputeModes(const Eigen::MatrixXd& centered) {
   }
   // The solver sorts ascending; PCA wants the largest modes first.
   const Eigen::VectorXd values = solver.eigenvalues().reverse();
-  const double cutoff = kNullModeRelativeTolerance * values(0);
+  const double noise_norm = kCenteringNoiseTolerance * samples_norm;
+  const double cutoff = std::max(kNullModeRelativeTolerance * values(0), noise_norm * noise_norm);
   const Eigen::Index available = (values.array() > cutoff).count();
   if (available == 0) {
-    return absl::InvalidArgumentError("the samples have no variance (all are identical)");
+    return absl::InvalidArgumentError(
+        "the samples have no variance (all identical up to rounding)");
   }
-  return Modes{values.head(available), solver.eigenvectors().rowwise().reverse().leftCols(available),
-               gram.trace()};
+  return Modes{values.head(available),
+               solver.eigenvectors().rowwise().reverse().leftCols(available), gram.trace()};
 }
 
 // The Euclidean length of every vertex (xyz triple) of every column of `flat`, lazily, so a
@@ -131,7 +137,7 @@ absl::StatusOr<int> SelectCount(const ComponentSelection& selection,
         cumulative += modes.values(n - 1) / modes.total;
         if (cumulative >= selection.variance_fraction) return n;
       }
-      // Rounding can leave the sum of the non-null ratios just short of a fraction of 1.
+      // Without the null modes, and with rounding, the ratios can sum to just under 1.
       return available;
     }
   }
@@ -166,7 +172,7 @@ absl::StatusOr<PcaBasis> BuildPcaBasis(const Eigen::MatrixXd& samples,
   PcaBasis basis;
   basis.mean = samples.rowwise().mean();
   const Eigen::MatrixXd centered = samples.colwise() - basis.mean;
-  ASSIGN_OR_RETURN(const Modes modes, ComputeModes(centered));
+  ASSIGN_OR_RETURN(const Modes modes, ComputeModes(centered, samples.norm()));
   ASSIGN_OR_RETURN(const int count, SelectCount(selection, centered, modes));
 
   basis.components = OrthonormalComponents(centered, modes, count);

@@ -9,8 +9,8 @@ namespace fitbase::core {
 // How many principal components to keep.
 struct ComponentSelection {
   enum class Rule {
-    kMaxMeanErrorMm,    // Fewest components whose mean per-vertex training error <= the target.
-    kCount,             // Exactly `count` components.
+    kMaxMeanErrorMm,    // Fewest components (>= 1) with mean per-vertex training error <= target.
+    kCount,             // Exactly `count` components, at most the non-null modes (<= K-1).
     kVarianceFraction,  // Fewest components explaining >= `variance_fraction` of the variance.
   };
   Rule rule = Rule::kMaxMeanErrorMm;
@@ -38,8 +38,10 @@ struct PcaBasis {
 };
 
 // PCA of K samples (columns of `samples`, D x K, K >= 2, finite). Uses the K x K Gram matrix,
-// never a D x D covariance. Component signs are fixed (largest-magnitude entry positive) so
-// the result does not depend on the eigensolver's sign choice.
+// never a D x D covariance. Modes with variance below 1e-12 of the largest are numerically
+// null and never kept. Component signs are fixed (largest-magnitude entry positive) so the
+// result does not depend on the eigensolver's sign choice. InvalidArgument for bad samples,
+// samples without variance, or a selection that is out of range.
 absl::StatusOr<PcaBasis> BuildPcaBasis(const Eigen::MatrixXd& samples,
                                        const ComponentSelection& selection);
 

@@ -67,7 +67,7 @@ constexpr TruncatedNormalSpec kShape = {0.0, 0.2, -0.6, 0.6};
 constexpr TruncatedNormalSpec kPregnant = {0.0, 0.1, -0.3, 0.3};
 
 struct ShapeModifier {
-  std::string_view name;
+  absl::string_view name;
   TruncatedNormalSpec distribution;
   bool women_only;
 };
@@ -111,7 +111,7 @@ constexpr ShapeModifier kShapeModifiers[] = {
 
 struct PresetName {
   PopulationPreset preset;
-  std::string_view name;
+  absl::string_view name;
 };
 
 constexpr PresetName kPresetNames[] = {
@@ -152,23 +152,21 @@ BodyParams SampleAdult(bool woman, Random& random) {
 
 }  // namespace
 
-absl::StatusOr<PopulationPreset> ParsePopulationPreset(std::string_view name) {
+absl::StatusOr<PopulationPreset> ParsePopulationPreset(absl::string_view name) {
   for (const PresetName& entry : kPresetNames) {
     if (entry.name == name) return entry.preset;
   }
-  // std::string(name): Debian's Abseil has its own string_view, which std::string_view does not
-  // convert to.
   return absl::InvalidArgumentError(absl::StrCat(
-      "unknown population preset '", std::string(name), "'; valid presets: ",
+      "unknown population preset '", name, "'; valid presets: ",
       absl::StrJoin(kPresetNames, ", ",
-                    [](std::string* out, const PresetName& entry) { out->append(entry.name); })));
+                    [](std::string* out, const PresetName& entry) { out->append(entry.name.data(), entry.name.size()); })));
 }
 
-std::string_view PopulationPresetName(PopulationPreset preset) {
+absl::string_view PopulationPresetName(PopulationPreset preset) {
   const auto* it =
       std::find_if(std::begin(kPresetNames), std::end(kPresetNames),
                    [preset](const PresetName& entry) { return entry.preset == preset; });
-  return it == std::end(kPresetNames) ? std::string_view() : it->name;
+  return it == std::end(kPresetNames) ? absl::string_view() : it->name;
 }
 
 BodyParams SampleBodyParams(PopulationPreset preset, uint64_t seed, uint64_t index) {

@@ -2,7 +2,7 @@
 #define FITBASE_CORE_POPULATION_SAMPLER_H_
 
 #include <cstdint>
-#include <string_view>
+#include "absl/strings/string_view.h"
 
 #include "absl/status/statusor.h"
 #include "core/body_params.h"
@@ -11,8 +11,8 @@ namespace fitbase::core {
 
 enum class PopulationPreset { kWomen, kMen, kAll };
 
-absl::StatusOr<PopulationPreset> ParsePopulationPreset(std::string_view name);
-std::string_view PopulationPresetName(PopulationPreset preset);
+absl::StatusOr<PopulationPreset> ParsePopulationPreset(absl::string_view name);
+absl::string_view PopulationPresetName(PopulationPreset preset);
 
 // Avatar number `index` of the population (preset, seed). Each avatar draws from its own
 // generator seeded from (seed, index), so a population of N avatars is the prefix of one of

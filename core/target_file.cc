@@ -73,7 +73,8 @@ absl::StatusOr<Target> ParseTarget(absl::string_view text, int64_t vertex_count,
   Target target;
   target.indices = std::move(indices);
   target.offsets = Eigen::Map<const Positions>(offsets.data(),
-                                               static_cast<Eigen::Index>(offsets.size() / 3), 3);
+                                               static_cast<Eigen::Index>(offsets.size() / 3), 3)
+                       .cast<float>();
   return target;
 }
 

@@ -63,6 +63,10 @@ absl::StatusOr<core::PcaBasis> PcaBasisFromProto(const v1::AvatarBasis& message)
     return absl::InvalidArgumentError(
         absl::StrCat("avatar basis ", message.id(), " has a non-positive or non-finite variance"));
   }
+  if (!basis.explained_variance_ratio.allFinite() || !std::isfinite(message.total_variance())) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "avatar basis ", message.id(), " has a non-finite explained variance or total variance"));
+  }
   basis.total_variance = message.total_variance();
   basis.training_error = {message.training_mean_error_mm(), message.training_max_error_mm()};
   basis.sample_count = static_cast<int>(message.population().count());

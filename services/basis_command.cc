@@ -107,12 +107,15 @@ absl::Status RunInfo(const BasisFlags& flags) {
             << absl::StrFormat("training    mean error %.3f mm, max %.3f mm\n",
                                m.training_mean_error_mm(), m.training_max_error_mm())
             << "components  " << m.component_count() << "\n\n"
-            << "  k   sigma_mm  explained%  cumulative%\n";
+            << "sigma: standard deviation of the weight (m); rms_mm: per-vertex RMS displacement"
+               " of a 1-sigma step\n"
+            << "  k      sigma    rms_mm  explained%  cumulative%\n";
   double cumulative = 0;
   for (uint32_t k = 0; k < m.component_count(); ++k) {
     cumulative += m.explained_variance_ratio(k);
-    std::cout << absl::StrFormat("%3d %10.2f %11.4f %12.4f\n", k,
-                                 1000 * std::sqrt(m.variances(k)),
+    const double sigma = std::sqrt(m.variances(k));
+    std::cout << absl::StrFormat("%3d %10.4f %9.2f %11.4f %12.4f\n", k, sigma,
+                                 1000 * sigma / std::sqrt(static_cast<double>(m.mean().vertex_count())),
                                  100 * m.explained_variance_ratio(k), 100 * cumulative);
   }
   return absl::OkStatus();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <iostream>
 
+#include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
@@ -40,8 +41,9 @@ absl::StatusOr<std::vector<std::filesystem::path>> ListAvatarFiles(
 absl::Status ReadParamsLines(const std::filesystem::path& path, v1::PopulationProvenance* out) {
   ASSIGN_OR_RETURN(std::string text, core::ReadFileToString(path));
   int line_number = 0;
-  for (absl::string_view line : absl::StrSplit(text, '\n', absl::SkipWhitespace())) {
+  for (absl::string_view line : absl::StrSplit(text, '\n')) {
     ++line_number;
+    if (absl::StripAsciiWhitespace(line).empty()) continue;
     v1::AvatarParams* params = out->add_params();
     absl::Status status = proto::ParseJson(line, params);
     if (status.ok()) status = proto::BodyParamsFromProto(*params).status();

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# Prepares this checkout on a Debian (bookworm) machine: installs the Debian packages fitbase
+# needs (skipping those already installed), makes the MakeHuman data available in data/, and
+# builds Release into build/. Safe to run again: each step only does what is missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+
+packages=(
+  cmake ninja-build g++ pkg-config ca-certificates curl
+  protobuf-compiler libprotobuf-dev protobuf-compiler-grpc libgrpc++-dev libabsl-dev libssl-dev
+  libeigen3-dev librocksdb-dev libdraco-dev libopenmesh-dev libcli11-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# MakeHuman data (CC0), never committed: a link to ../shared/data/makehuman beside the checkout
+# when there is one, else the pinned upstream files. scripts/makehuman_manifest.sha256 pins
+# every file the project reads, so either way the bytes are the ones the tests expect.
+manifest="$root/scripts/makehuman_manifest.sha256"
+data="$root/data/makehuman"
+mkdir -p "$root/data"
+if [ ! -e "$data/base.obj" ]; then
+  shared="$(cd "$root/.." && pwd)/shared/data/makehuman"
+  if [ -f "$shared/base.obj" ]; then
+    ln -sfn "$shared" "$data"
+    echo "setup: linked $data -> $shared"
+  else
+    makehuman_commit=a8bc2d54ff0ac92e78ff71431b1023eda42bf482
+    assets_commit=8cf9645b975a98eea056b140df11a1d278da0d10
+    github=https://raw.githubusercontent.com/makehumancommunity
+    partial="$data.partial"
+    rm -rf "$partial"
+    total=$(wc -l < "$manifest")
+    done_count=0
+    start=$(date +%s)
+    while read -r _ path; do
+      case "$path" in
+        base.obj) url="$github/makehuman/$makehuman_commit/makehuman/data/3dobjs/base.obj" ;;
+        clothes/*) url="$github/makehuman-assets/$assets_commit/base/$path" ;;
+        *) url="$github/makehuman/$makehuman_commit/makehuman/data/$path" ;;
+      esac
+      mkdir -p "$partial/$(dirname "$path")"
+      curl -fsSL --retry 3 -o "$partial/$path" "$url"
+      done_count=$((done_count + 1))
+      elapsed=$(( $(date +%s) - start ))
+      printf '\rsetup: downloading MakeHuman data %d/%d  elapsed %ds  ETA %ds' "$done_count" "$total" \
+        "$elapsed" $(( elapsed * (total - done_count) / done_count )) >&2
+    done < "$manifest"
+    echo >&2
+    mv "$partial" "$data"
+  fi
+fi
+(cd "$data" && sha256sum --quiet --strict -c "$manifest") || {
+  echo "setup: $data does not match scripts/makehuman_manifest.sha256" >&2
+  exit 1
+}
+
+cmake -S "$root" -B "$root/build" -G Ninja -DCMAKE_BUILD_TYPE=Release > "$root/build.log" 2>&1 ||
+  { cat "$root/build.log"; exit 1; }
+cmake --build "$root/build"

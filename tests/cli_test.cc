@@ -1,0 +1,277 @@
+// End-to-end tests of the `fitbase` binary: real processes, real files, real MakeHuman data.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "core/body_model.h"
+#include "core/file_util.h"
+#include "core/obj_io.h"
+#include "core/test_support.h"
+#include "fitbase/v1/avatar.pb.h"
+#include "fitbase/v1/avatar_basis.pb.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "proto/json_codec.h"
+#include "proto/message_file.h"
+
+namespace fitbase {
+namespace {
+
+using ::testing::HasSubstr;
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+fs::path Scratch(const std::string& name) {
+  const fs::path dir = core::ProcessTempDir() / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string Quote(const std::string& arg) {
+  std::string quoted = "'";
+  for (char c : arg) quoted += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+Result RunFitbase(const std::vector<std::string>& args) {
+  static int calls = 0;
+  const fs::path dir = core::ProcessTempDir();
+  fs::create_directories(dir);
+  const fs::path out = dir / absl::StrCat("out", calls, ".txt");
+  const fs::path err = dir / absl::StrCat("err", calls++, ".txt");
+  std::vector<std::string> quoted = {FITBASE_BINARY, "--data", core::TestDataDir().string()};
+  quoted.insert(quoted.end(), args.begin(), args.end());
+  for (std::string& a : quoted) a = Quote(a);
+  const std::string command = absl::StrCat(absl::StrJoin(quoted, " "), " >", out.string(), " 2>",
+                                           err.string(), " </dev/null");
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, *core::ReadFileToString(out),
+          *core::ReadFileToString(err)};
+}
+
+TEST(CliTest, EveryCommandHasHelp) {
+  for (const std::vector<std::string>& command :
+       std::vector<std::vector<std::string>>{{"--help"},
+                                             {"avatar", "--help"},
+                                             {"population", "--help"},
+                                             {"basis", "--help"},
+                                             {"basis", "build", "--help"},
+                                             {"basis", "info", "--help"},
+                                             {"basis", "project", "--help"},
+                                             {"basis", "example", "--help"},
+                                             {"basis", "eval", "--help"}}) {
+    const Result r = RunFitbase(command);
+    EXPECT_EQ(r.exit_code, 0) << absl::StrJoin(command, " ");
+    EXPECT_THAT(r.out, HasSubstr("Usage")) << absl::StrJoin(command, " ");
+  }
+}
+
+TEST(CliTest, AvatarMatchesTheBodyModel) {
+  const fs::path dir = Scratch("avatar");
+  const Result r = RunFitbase({"avatar", "--params", R"({"gender": 0.2, "age_years": 40,
+      "modifiers": {"measure/measure-waist-circ-decr|incr": 0.5}})",
+                        "--out", (dir / "a.obj").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto written = core::ReadObj(dir / "a.obj");
+  ASSERT_TRUE(written.ok()) << written.status();
+  auto model = core::BodyModel::Load(core::TestDataDir());
+  ASSERT_TRUE(model.ok());
+  core::BodyParams params;
+  params.gender = 0.2;
+  params.age_years = 40;
+  params.modifiers["measure/measure-waist-circ-decr|incr"] = 0.5;
+  auto expected = model->BuildBody(params);
+  ASSERT_TRUE(expected.ok());
+  ASSERT_EQ(written->vertex_count(), core::kBodyVertexCount);
+  EXPECT_LT((written->positions - expected->positions).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_EQ(written->faces, expected->faces);
+}
+
+TEST(CliTest, AvatarParamsFromFile) {
+  const fs::path dir = Scratch("avatar_file");
+  ASSERT_TRUE(core::WriteFileAtomically(dir / "p.json", R"({"weight": 0.9})").ok());
+  const Result r = RunFitbase({"avatar", "--params", (dir / "p.json").string(), "--out",
+                        (dir / "a.obj").string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "a.obj"));
+}
+
+TEST(CliTest, BadAvatarParamsFailWithTheirName) {
+  const fs::path out = Scratch("bad_avatar") / "a.obj";
+  struct Case {
+    std::string params;
+    std::string message;
+  };
+  for (const Case& c : {Case{R"({"gendr": 1})", "gendr"},
+                        Case{R"({"gender": 1.5})", "'gender' is 1.5"},
+                        Case{R"({"age_years": 12})", "age_years"},
+                        Case{R"({"african": 1})", "ethnic shares"},
+                        Case{R"({"modifiers": {"head/head-fat-decr|incr": 1}})", "unknown modifier"},
+                        Case{R"({"weight": )", "invalid JSON"},
+                        Case{"/no/such/params.json", "cannot open"}}) {
+    const Result r = RunFitbase({"avatar", "--params", c.params, "--out", out.string()});
+    EXPECT_NE(r.exit_code, 0) << c.params;
+    EXPECT_THAT(r.err, HasSubstr(c.message)) << c.params;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+TEST(CliTest, BadFlagsFail) {
+  const fs::path dir = Scratch("bad_flags");
+  EXPECT_NE(RunFitbase({"population", "--count", "0", "--out", dir.string()}).exit_code, 0);
+  EXPECT_NE(RunFitbase({"population", "--count", "many", "--out", dir.string()}).exit_code, 0);
+  const Result preset = RunFitbase({"population", "--preset", "kids", "--count", "2", "--out", dir.string()});
+  EXPECT_NE(preset.exit_code, 0);
+  EXPECT_THAT(preset.err, HasSubstr("kids"));
+  EXPECT_NE(RunFitbase({"basis", "info", (dir / "missing.fbb").string()}).exit_code, 0);
+  ASSERT_TRUE(core::WriteFileAtomically(dir / "garbage.fbb", "not a basis").ok());
+  const Result garbage = RunFitbase({"basis", "info", (dir / "garbage.fbb").string()});
+  EXPECT_NE(garbage.exit_code, 0);
+  EXPECT_THAT(garbage.err, HasSubstr("AvatarBasis"));
+}
+
+// One population and basis shared by the tests below: the expensive part of the pipeline.
+class CliBasisTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(Scratch("basis"));
+    const Result pop = RunFitbase({"population", "--preset", "women", "--count", "16", "--seed", "3",
+                            "--out", (*dir_ / "pop").string()});
+    ASSERT_EQ(pop.exit_code, 0) << pop.err;
+    const Result build = RunFitbase({"basis", "build", "--population", (*dir_ / "pop").string(),
+                              "--components", "6", "--out", (*dir_ / "b.fbb").string()});
+    ASSERT_EQ(build.exit_code, 0) << build.err;
+  }
+  static void TearDownTestSuite() { delete dir_; }
+
+  static v1::AvatarBasis ReadBasis(const fs::path& path) {
+    v1::AvatarBasis basis;
+    EXPECT_TRUE(proto::ReadMessageFile(path, &basis).ok());
+    return basis;
+  }
+
+  static fs::path* dir_;
+};
+
+fs::path* CliBasisTest::dir_ = nullptr;
+
+TEST_F(CliBasisTest, PopulationFolderIsComplete) {
+  EXPECT_TRUE(fs::exists(*dir_ / "pop/population.json"));
+  EXPECT_TRUE(fs::exists(*dir_ / "pop/avatar-00015.obj"));
+  EXPECT_FALSE(fs::exists(*dir_ / "pop/avatar-00016.obj"));
+  const std::string params = *core::ReadFileToString(*dir_ / "pop/params.jsonl");
+  EXPECT_EQ(std::count(params.begin(), params.end(), '\n'), 16);
+}
+
+TEST_F(CliBasisTest, SameInputsGiveSameBytesAndId) {
+  const Result pop = RunFitbase({"population", "--preset", "women", "--count", "16", "--seed", "3",
+                          "--out", (*dir_ / "pop2").string()});
+  ASSERT_EQ(pop.exit_code, 0);
+  for (const char* file : {"params.jsonl", "population.json", "avatar-00007.obj"}) {
+    EXPECT_EQ(*core::ReadFileToString(*dir_ / "pop" / file),
+              *core::ReadFileToString(*dir_ / "pop2" / file))
+        << file;
+  }
+  const Result build = RunFitbase({"basis", "build", "--population", (*dir_ / "pop2").string(),
+                            "--components", "6", "--out", (*dir_ / "b2.fbb").string()});
+  ASSERT_EQ(build.exit_code, 0) << build.err;
+  EXPECT_EQ(*core::ReadFileToString(*dir_ / "b.fbb"), *core::ReadFileToString(*dir_ / "b2.fbb"));
+
+  const Result other = RunFitbase({"basis", "build", "--population", (*dir_ / "pop2").string(),
+                            "--components", "5", "--out", (*dir_ / "b3.fbb").string()});
+  ASSERT_EQ(other.exit_code, 0) << other.err;
+  EXPECT_NE(ReadBasis(*dir_ / "b.fbb").id(), ReadBasis(*dir_ / "b3.fbb").id());
+}
+
+TEST_F(CliBasisTest, InfoShowsIdAndComponents) {
+  const Result r = RunFitbase({"basis", "info", (*dir_ / "b.fbb").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr(ReadBasis(*dir_ / "b.fbb").id()));
+  EXPECT_THAT(r.out, HasSubstr("components  6"));
+  EXPECT_THAT(r.out, HasSubstr("preset women, seed 3, 16 avatars"));
+}
+
+TEST_F(CliBasisTest, ProjectTrainingAvatarAsJson) {
+  const Result r = RunFitbase({"basis", "project", "--basis", (*dir_ / "b.fbb").string(), "--avatar",
+                        (*dir_ / "pop/avatar-00002.obj").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  v1::AvatarWeights weights;
+  ASSERT_TRUE(proto::ParseJson(r.out, &weights).ok()) << r.out;
+  EXPECT_EQ(weights.weights_size(), 6);
+  EXPECT_EQ(weights.basis_id(), ReadBasis(*dir_ / "b.fbb").id());
+  EXPECT_GT(weights.max_error_mm(), weights.mean_error_mm());
+  EXPECT_THAT(r.out, HasSubstr("\"mean_error_mm\""));
+  EXPECT_THAT(r.out, HasSubstr("\"max_error_mm\""));
+  EXPECT_THAT(r.out, HasSubstr("\"weights\""));
+}
+
+TEST_F(CliBasisTest, ExampleAtZeroSigmaIsTheMean) {
+  const fs::path out = *dir_ / "mean.obj";
+  ASSERT_EQ(RunFitbase({"basis", "example", "--basis", (*dir_ / "b.fbb").string(), "--component", "0",
+                 "--sigma", "0", "--out", out.string()})
+                .exit_code,
+            0);
+  const Result r = RunFitbase({"basis", "project", "--basis", (*dir_ / "b.fbb").string(), "--avatar",
+                        out.string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  v1::AvatarWeights weights;
+  ASSERT_TRUE(proto::ParseJson(r.out, &weights).ok());
+  for (double w : weights.weights()) EXPECT_NEAR(w, 0.0, 1e-4);
+
+  const Result bad = RunFitbase({"basis", "example", "--basis", (*dir_ / "b.fbb").string(),
+                          "--component", "6", "--out", out.string()});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_THAT(bad.err, HasSubstr("components 0 to 5"));
+}
+
+TEST_F(CliBasisTest, ProjectRejectsBadAvatars) {
+  const fs::path dir = Scratch("bad_avatars");
+  core::Mesh small;
+  small.positions = core::Positions::Random(100, 3);
+  ASSERT_TRUE(core::WriteObj(dir / "small.obj", small).ok());
+  Result r = RunFitbase({"basis", "project", "--basis", (*dir_ / "b.fbb").string(), "--avatar",
+                  (dir / "small.obj").string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("has 100 vertices"));
+
+  std::string text = *core::ReadFileToString(*dir_ / "pop/avatar-00000.obj");
+  text.replace(text.find("\nv ") + 3, 1, "nan ");
+  ASSERT_TRUE(core::WriteFileAtomically(dir / "nan.obj", text).ok());
+  r = RunFitbase({"basis", "project", "--basis", (*dir_ / "b.fbb").string(), "--avatar",
+           (dir / "nan.obj").string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("nan.obj"));
+}
+
+TEST_F(CliBasisTest, SelectionRulesAreExclusiveAndChecked) {
+  const std::string pop = (*dir_ / "pop").string();
+  const std::string out = (*dir_ / "x.fbb").string();
+  Result r = RunFitbase({"basis", "build", "--population", pop, "--components", "3", "--variance", "0.9",
+                  "--out", out});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("at most one"));
+  r = RunFitbase({"basis", "build", "--population", pop, "--components", "40", "--out", out});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("40"));
+  r = RunFitbase({"basis", "build", "--population", pop, "--variance", "1.5", "--out", out});
+  EXPECT_NE(r.exit_code, 0);
+  r = RunFitbase({"basis", "build", "--population", pop, "--max-error-mm", "-1", "--out", out});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
+}  // namespace fitbase
