@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "core/status_macros.h"
 
 namespace fitbase::core {
 namespace {
@@ -87,11 +88,9 @@ absl::Status ValidateBodyParams(const BodyParams& p) {
       {"breast_firmness", p.breast_firmness},
   }};
   for (const auto& [name, value] : unit) {
-    if (absl::Status s = CheckUnit(name, value, 0.0, 1.0); !s.ok()) return s;
+    RETURN_IF_ERROR(CheckUnit(name, value, 0.0, 1.0));
   }
-  if (absl::Status s = CheckUnit("age_years", p.age_years, kMinAgeYears, kMaxAgeYears); !s.ok()) {
-    return s;
-  }
+  RETURN_IF_ERROR(CheckUnit("age_years", p.age_years, kMinAgeYears, kMaxAgeYears));
   const double ethnic_sum = p.african + p.asian + p.caucasian;
   if (std::abs(ethnic_sum - 1.0) > 1e-6) {
     return absl::InvalidArgumentError(absl::StrCat(
@@ -102,7 +101,7 @@ absl::Status ValidateBodyParams(const BodyParams& p) {
       return absl::InvalidArgumentError(absl::StrCat(
           "unknown modifier '", name, "' (expected a name like 'measure/measure-waist-circ-decr|incr')"));
     }
-    if (absl::Status s = CheckUnit(name, value, -1.0, 1.0); !s.ok()) return s;
+    RETURN_IF_ERROR(CheckUnit(name, value, -1.0, 1.0));
   }
   return absl::OkStatus();
 }

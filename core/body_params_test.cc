@@ -2,15 +2,14 @@
 
 #include <cmath>
 
+#include "core/test_support.h"
 #include "gtest/gtest.h"
 
 namespace fitbase::core {
 namespace {
 
-void ExpectInvalid(const BodyParams& p, absl::string_view names) {
-  const absl::Status status = ValidateBodyParams(p);
-  EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_NE(status.message().find(names), absl::string_view::npos) << status;
+void ExpectInvalid(const BodyParams& p, const std::string& names) {
+  EXPECT_THAT(ValidateBodyParams(p), StatusIs(absl::StatusCode::kInvalidArgument, names));
 }
 
 TEST(BodyParamsTest, DefaultsAreValid) { EXPECT_TRUE(ValidateBodyParams(BodyParams{}).ok()); }

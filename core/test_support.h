@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <string>
 
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "gmock/gmock.h"
 #include "gtest/gtest.h"
 
 namespace fitbase::core {
@@ -32,6 +35,20 @@ inline const std::filesystem::path& ProcessTempDir() {
   };
   static const Dir dir;
   return dir.path;
+}
+
+inline const absl::Status& StatusOf(const absl::Status& status) { return status; }
+template <typename T>
+const absl::Status& StatusOf(const absl::StatusOr<T>& status_or) {
+  return status_or.status();
+}
+
+// Matches an absl::Status or StatusOr with `code` whose message contains `substring`.
+MATCHER_P2(StatusIs, code, substring, "") {
+  const absl::Status& status = ::fitbase::core::StatusOf(arg);
+  *result_listener << "status is " << status;
+  return status.code() == code &&
+         std::string(status.message()).find(substring) != std::string::npos;
 }
 
 }  // namespace fitbase::core

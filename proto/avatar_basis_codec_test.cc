@@ -5,6 +5,7 @@
 #include <string>
 
 #include "absl/status/status.h"
+#include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 
@@ -46,10 +47,7 @@ v1::AvatarBasis SampleMessage() {
 }
 
 void ExpectInvalid(const v1::AvatarBasis& message, const std::string& needle) {
-  auto basis = PcaBasisFromProto(message);
-  ASSERT_FALSE(basis.ok());
-  EXPECT_EQ(basis.status().code(), absl::StatusCode::kInvalidArgument) << basis.status();
-  EXPECT_THAT(std::string(basis.status().message()), HasSubstr(needle));
+  EXPECT_THAT(PcaBasisFromProto(message), core::StatusIs(absl::StatusCode::kInvalidArgument, needle));
 }
 
 TEST(AvatarBasisCodecTest, SampleBasisIsOrthonormal) {

@@ -1,5 +1,7 @@
 #include "proto/avatar_params_codec.h"
 
+#include "core/status_macros.h"
+
 namespace fitbase::proto {
 
 absl::StatusOr<core::BodyParams> BodyParamsFromProto(const v1::AvatarParams& m) {
@@ -16,7 +18,7 @@ absl::StatusOr<core::BodyParams> BodyParamsFromProto(const v1::AvatarParams& m) 
   if (m.has_breast_size()) p.breast_size = m.breast_size();
   if (m.has_breast_firmness()) p.breast_firmness = m.breast_firmness();
   for (const auto& [name, value] : m.modifiers()) p.modifiers[name] = value;
-  if (absl::Status status = core::ValidateBodyParams(p); !status.ok()) return status;
+  RETURN_IF_ERROR(core::ValidateBodyParams(p));
   return p;
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "absl/status/status.h"
+#include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 
@@ -34,10 +35,7 @@ core::BodyParams NonDefaultParams() {
 }
 
 void ExpectInvalid(const v1::AvatarParams& message, const std::string& needle) {
-  auto params = BodyParamsFromProto(message);
-  ASSERT_FALSE(params.ok());
-  EXPECT_EQ(params.status().code(), absl::StatusCode::kInvalidArgument) << params.status();
-  EXPECT_THAT(std::string(params.status().message()), HasSubstr(needle));
+  EXPECT_THAT(BodyParamsFromProto(message), core::StatusIs(absl::StatusCode::kInvalidArgument, needle));
 }
 
 TEST(AvatarParamsCodecTest, EmptyMessageIsTheDefaultHuman) {

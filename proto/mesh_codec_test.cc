@@ -5,6 +5,7 @@
 #include <string>
 
 #include "absl/status/status.h"
+#include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 
@@ -76,10 +77,7 @@ TEST(MeshCodecTest, MeshWithoutFacesIsValid) {
 }
 
 void ExpectInvalid(const v1::Mesh& message, const std::string& needle) {
-  auto decoded = MeshFromProto(message);
-  ASSERT_FALSE(decoded.ok());
-  EXPECT_EQ(decoded.status().code(), absl::StatusCode::kInvalidArgument) << decoded.status();
-  EXPECT_THAT(std::string(decoded.status().message()), HasSubstr(needle));
+  EXPECT_THAT(MeshFromProto(message), core::StatusIs(absl::StatusCode::kInvalidArgument, needle));
 }
 
 TEST(MeshCodecTest, RejectsWrongPositionsCount) {
