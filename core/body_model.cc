@@ -1,8 +1,13 @@
 #include "core/body_model.h"
 
 #include <algorithm>
+#include <set>
 
+#include "absl/strings/ascii.h"
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
+#include "core/file_util.h"
 #include "core/macro_weights.h"
 #include "core/obj_io.h"
 #include "core/status_macros.h"
@@ -26,7 +31,35 @@ PolygonFaces BodyFacesOf(const PolygonFaces& faces) {
   return body;
 }
 
+// The vertex sets of the OBJ's `g` groups, from the faces listed under each (OpenMesh keeps
+// faces in file order but drops group names).
+std::map<std::string, std::vector<int32_t>, std::less<>> GroupsOf(absl::string_view obj_text,
+                                                                  const PolygonFaces& faces) {
+  std::map<std::string, std::set<int32_t>, std::less<>> sets;
+  std::string group;
+  size_t face = 0;
+  size_t corner = 0;
+  for (absl::string_view line : absl::StrSplit(obj_text, '\n')) {
+    if (absl::StartsWith(line, "g ")) {
+      group = std::string(absl::StripAsciiWhitespace(line.substr(2)));
+    } else if (absl::StartsWith(line, "f ") && face < faces.sizes.size()) {
+      const int32_t size = faces.sizes[face++];
+      sets[group].insert(faces.indices.begin() + static_cast<ptrdiff_t>(corner),
+                         faces.indices.begin() + static_cast<ptrdiff_t>(corner + size));
+      corner += static_cast<size_t>(size);
+    }
+  }
+  std::map<std::string, std::vector<int32_t>, std::less<>> groups;
+  for (auto& [name, vertices] : sets) groups[name].assign(vertices.begin(), vertices.end());
+  return groups;
+}
+
 }  // namespace
+
+std::vector<int32_t> BodyModel::GroupVertices(absl::string_view name) const {
+  const auto it = groups_.find(name);
+  return it == groups_.end() ? std::vector<int32_t>() : it->second;
+}
 
 absl::StatusOr<BodyModel> BodyModel::Load(const std::filesystem::path& data_dir) {
   BodyModel model;
@@ -39,6 +72,8 @@ absl::StatusOr<BodyModel> BodyModel::Load(const std::filesystem::path& data_dir)
   model.base_ = std::move(base.positions);
   model.full_faces_ = std::move(base.faces);
   model.body_faces_ = BodyFacesOf(model.full_faces_);
+  ASSIGN_OR_RETURN(std::string obj_text, ReadFileToString(data_dir / "base.obj"));
+  model.groups_ = GroupsOf(obj_text, model.full_faces_);
   for (std::string& path : AllTargetPaths()) {
     ASSIGN_OR_RETURN(Target target,
                      ReadTargetFile(data_dir / "targets" / path, kFullVertexCount));

@@ -4,7 +4,9 @@
 #include <filesystem>
 #include <string>
 #include "absl/strings/string_view.h"
+#include <map>
 #include <unordered_map>
+#include <vector>
 
 #include "absl/status/statusor.h"
 #include "core/body_params.h"
@@ -37,6 +39,12 @@ class BodyModel {
 
   // Body faces, shared by every avatar of topology kBodyTopologyId.
   const PolygonFaces& body_faces() const { return body_faces_; }
+  // Faces of the whole hm08 mesh, in base.obj order.
+  const PolygonFaces& full_faces() const { return full_faces_; }
+
+  // The vertices of base.obj's group `name` (e.g. "joint-l-knee"), ascending; empty if the
+  // group does not exist.
+  std::vector<int32_t> GroupVertices(absl::string_view name) const;
 
  private:
   BodyModel() = default;
@@ -47,6 +55,7 @@ class BodyModel {
   PolygonFaces full_faces_;
   PolygonFaces body_faces_;
   std::unordered_map<std::string, Target> targets_;
+  std::map<std::string, std::vector<int32_t>, std::less<>> groups_;
 };
 
 }  // namespace fitbase::core

@@ -12,6 +12,9 @@ namespace fitbase::core {
 // Vertex positions, one row per vertex: V x 3, meters unless a function says otherwise.
 using Positions = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
+// Triangles, one row per triangle: T x 3 vertex indices, counter-clockwise seen from outside.
+using Triangles = Eigen::Matrix<int32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
 // Polygon faces in the flat layout of USD and Draco: face f has sizes[f] corners, listed in
 // `indices` after those of faces 0..f-1. Garments mix triangles and quads, so no fixed arity.
 struct PolygonFaces {
@@ -21,6 +24,9 @@ struct PolygonFaces {
   int64_t face_count() const { return static_cast<int64_t>(sizes.size()); }
   bool operator==(const PolygonFaces&) const = default;
 };
+
+// Splits every polygon into a fan from its first corner, keeping the corner orientation.
+Triangles Triangulate(const PolygonFaces& faces);
 
 // A surface mesh whose vertex order is part of its identity: every linear model in fitbase
 // relates vertex i of one mesh to vertex i of another of the same topology.

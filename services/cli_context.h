@@ -24,6 +24,8 @@ std::filesystem::path ResolveDataDir(const CliContext& context);
 void AddAvatarCommand(CLI::App& app, CliContext& context);
 void AddPopulationCommand(CLI::App& app, CliContext& context);
 void AddBasisCommands(CLI::App& app, CliContext& context);
+void AddGarmentCommands(CLI::App& app, CliContext& context);
+void AddDrapeCommand(CLI::App& app, CliContext& context);
 
 }  // namespace fitbase::services
 

@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
   fitbase::services::AddAvatarCommand(app, context);
   fitbase::services::AddPopulationCommand(app, context);
   fitbase::services::AddBasisCommands(app, context);
+  fitbase::services::AddGarmentCommands(app, context);
+  fitbase::services::AddDrapeCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,6 +1,4 @@
 // End-to-end tests of the `fitbase` binary: real processes, real files, real MakeHuman data.
-#include <sys/wait.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +11,7 @@
 #include "core/file_util.h"
 #include "core/obj_io.h"
 #include "core/test_support.h"
+#include "tests/cli_runner.h"
 #include "fitbase/v1/avatar.pb.h"
 #include "fitbase/v1/avatar_basis.pb.h"
 #include "gmock/gmock.h"
@@ -26,41 +25,6 @@ namespace {
 using ::testing::HasSubstr;
 
 namespace fs = std::filesystem;
-
-struct Result {
-  int exit_code;
-  std::string out;
-  std::string err;
-};
-
-fs::path Scratch(const std::string& name) {
-  const fs::path dir = core::ProcessTempDir() / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string Quote(const std::string& arg) {
-  std::string quoted = "'";
-  for (char c : arg) quoted += (c == '\'') ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
-
-Result RunFitbase(const std::vector<std::string>& args) {
-  static int calls = 0;
-  const fs::path dir = core::ProcessTempDir();
-  fs::create_directories(dir);
-  const fs::path out = dir / absl::StrCat("out", calls, ".txt");
-  const fs::path err = dir / absl::StrCat("err", calls++, ".txt");
-  std::vector<std::string> quoted = {FITBASE_BINARY, "--data", core::TestDataDir().string()};
-  quoted.insert(quoted.end(), args.begin(), args.end());
-  for (std::string& a : quoted) a = Quote(a);
-  const std::string command = absl::StrCat(absl::StrJoin(quoted, " "), " >", out.string(), " 2>",
-                                           err.string(), " </dev/null");
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, *core::ReadFileToString(out),
-          *core::ReadFileToString(err)};
-}
 
 TEST(CliTest, EveryCommandHasHelp) {
   for (const std::vector<std::string>& command :

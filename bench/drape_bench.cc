@@ -1,0 +1,239 @@
+// The offline fitter's figures over the shared garments:
+//   fitbase_drape_bench --basis B.fbb [--garments a,b|all] [--sizes S,M,XL] [--jobs 2]
+//                       [--smoothness] [--out DIR]
+// Drapes every garment in every size onto ten bodies (women and men: average, heavy, thin,
+// tall, short) and prints, per garment, seconds per drape (each drape single-threaded; --jobs
+// runs drapes side by side), penetration, strain (flagged drapes counted apart) and ease.
+// --smoothness adds, for each garment on one body, the second difference
+// |D(b + d) + D(b - d) - 2 D(b)|_inf for d = 0.1 sigma along the first component, and how far
+// doubling the iteration budget moves the result.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <mutex>
+#include <thread>
+
+#include "CLI/CLI.hpp"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_split.h"
+#include "core/body_model.h"
+#include "proto/avatar_basis_codec.h"
+#include "proto/message_file.h"
+#include "services/garment_importer.h"
+#include "services/progress_reporter.h"
+#include "workers/garment_drape.h"
+
+namespace fitbase {
+namespace {
+
+struct Body {
+  std::string name;
+  core::Positions positions;
+};
+
+std::vector<Body> TestBodies(const core::BodyModel& model) {
+  struct Spec {
+    const char* name;
+    double gender, weight, height, muscle;
+  };
+  const Spec specs[] = {
+      {"woman", 0.05, 0.5, 0.5, 0.5},       {"woman-heavy", 0.05, 0.9, 0.5, 0.5},
+      {"woman-thin", 0.05, 0.15, 0.5, 0.4}, {"woman-tall", 0.05, 0.5, 0.85, 0.5},
+      {"woman-short", 0.05, 0.5, 0.15, 0.5}, {"man", 0.95, 0.5, 0.5, 0.5},
+      {"man-heavy", 0.95, 0.9, 0.5, 0.6},    {"man-thin", 0.95, 0.15, 0.5, 0.4},
+      {"man-tall", 0.95, 0.5, 0.85, 0.5},    {"man-short", 0.95, 0.5, 0.15, 0.5},
+  };
+  std::vector<Body> bodies;
+  for (const Spec& s : specs) {
+    core::BodyParams p;
+    p.gender = s.gender;
+    p.weight = s.weight;
+    p.height = s.height;
+    p.muscle = s.muscle;
+    p.age_years = 35;
+    bodies.push_back({s.name, model.BuildBody(p)->positions});
+  }
+  return bodies;
+}
+
+double MaxAbs(const core::Positions& p) { return p.cwiseAbs().maxCoeff(); }
+
+int Main(int argc, char** argv) {
+  CLI::App app{"Offline fitter figures over the shared garments"};
+  std::string basis_path, data = "data/makehuman", garments = "all", sizes = "S,M,XL", out;
+  int jobs = 2;
+  bool smoothness = false;
+  app.add_option("--basis", basis_path, "Avatar basis (.fbb) with avatar parameters")->required();
+  app.add_option("--data", data, "MakeHuman data folder");
+  app.add_option("--garments", garments, "Comma-separated garment names, or all");
+  app.add_option("--sizes", sizes, "Sizes to drape");
+  app.add_option("--jobs", jobs, "Drapes run side by side (each single-threaded)")
+      ->check(CLI::Range(1, 64));
+  app.add_flag("--smoothness", smoothness, "Also measure smoothness and budget doubling");
+  app.add_option("--out", out, "Folder for the imported garments (reused when present)");
+  CLI11_PARSE(app, argc, argv);
+
+  v1::AvatarBasis basis;
+  if (auto s = proto::ReadMessageFile(basis_path, &basis); !s.ok()) {
+    std::cerr << s.message() << "\n";
+    return 1;
+  }
+  auto model = core::BodyModel::Load(data);
+  if (!model.ok()) {
+    std::cerr << model.status().message() << "\n";
+    return 1;
+  }
+  std::vector<std::string> names;
+  if (garments == "all") {
+    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(data) / "clothes")) {
+      names.push_back(entry.path().filename().string());
+    }
+    std::sort(names.begin(), names.end());
+  } else {
+    names = absl::StrSplit(garments, ',');
+  }
+  const std::vector<std::string> size_list = absl::StrSplit(sizes, ',');
+  const std::vector<Body> bodies = TestBodies(*model);
+  if (!out.empty()) std::filesystem::create_directories(out);
+
+  std::vector<v1::Garment> imported;
+  for (const std::string& name : names) {
+    const std::filesystem::path cache = out.empty() ? "" : std::filesystem::path(out) / (name + ".fbg");
+    v1::Garment garment;
+    if (!cache.empty() && proto::ReadMessageFile(cache, &garment).ok() &&
+        garment.avatar_basis_id() == basis.id()) {
+      imported.push_back(garment);
+      continue;
+    }
+    services::GarmentImportRequest request;
+    request.mhclo = std::filesystem::path(data) / "clothes" / name / (name + ".mhclo");
+    request.sizes = size_list;
+    auto result = services::ImportGarment(*model, basis, request);
+    if (!result.ok()) {
+      std::cerr << name << ": " << result.status().message() << "\n";
+      return 1;
+    }
+    if (!cache.empty()) (void)proto::WriteMessageFile(cache, *result);
+    imported.push_back(*std::move(result));
+  }
+
+  struct Task {
+    size_t garment, body, size;
+  };
+  std::vector<Task> tasks;
+  for (size_t g = 0; g < imported.size(); ++g)
+    for (size_t b = 0; b < bodies.size(); ++b)
+      for (size_t s = 0; s < size_list.size(); ++s) tasks.push_back({g, b, s});
+  std::vector<v1::DrapeReport> reports(tasks.size());
+  std::atomic<size_t> next{0}, done{0};
+  std::mutex progress_mutex;
+  services::ProgressReporter progress("drapes", static_cast<int64_t>(tasks.size()), std::cerr,
+                                      services::StderrIsTerminal());
+  auto worker = [&] {
+    for (size_t i = next++; i < tasks.size(); i = next++) {
+      const Task& t = tasks[i];
+      auto fit = workers::DrapeGarment(imported[t.garment], size_list[t.size],
+                                       bodies[t.body].positions);
+      if (fit.ok()) reports[i] = fit->report;
+      else reports[i].set_method(std::string(fit.status().message()));
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      progress.Update(static_cast<int64_t>(++done));
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
+  for (auto& t : threads) t.join();
+  progress.Finish();
+
+  std::printf("\n%-22s %6s %9s %9s %9s %9s %9s %8s %8s\n", "garment", "verts", "s/drape",
+              "pen<0mm", "pen<1mm", "strain_m", "strain99", "flagged", "ease_mm");
+  double all_seconds = 0, all_below0 = 0, all_below1 = 0;
+  std::vector<double> ok_mean, ok_p99;
+  int flagged_total = 0;
+  for (size_t g = 0; g < imported.size(); ++g) {
+    double seconds = 0, below0 = 0, below1 = 0, strain = 0, p99 = 0, ease = 0;
+    int count = 0, flagged = 0, ok = 0;
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      if (tasks[i].garment != g) continue;
+      const v1::DrapeReport& r = reports[i];
+      ++count;
+      seconds += r.seconds();
+      below0 = std::max(below0, r.penetration_below_0mm());
+      below1 = std::max(below1, r.penetration_below_1mm());
+      ease += r.ease_mean_mm();
+      if (r.overstretched()) {
+        ++flagged;
+        continue;
+      }
+      ++ok;
+      strain += r.strain_mean();
+      p99 = std::max(p99, r.strain_p99());
+      ok_mean.push_back(r.strain_mean());
+      ok_p99.push_back(r.strain_p99());
+    }
+    all_seconds += seconds;
+    all_below0 = std::max(all_below0, below0);
+    all_below1 = std::max(all_below1, below1);
+    flagged_total += flagged;
+    std::printf("%-22s %6d %9.2f %8.3f%% %8.3f%% %8.2f%% %8.2f%% %5d/%-2d %8.1f\n",
+                imported[g].name().c_str(), imported[g].template_mesh().vertex_count(),
+                seconds / count, 100 * below0, 100 * below1, ok ? 100 * strain / ok : 0.0,
+                100 * p99, flagged, count, ease / count);
+  }
+  std::sort(ok_p99.begin(), ok_p99.end());
+  double mean_strain = 0;
+  for (double m : ok_mean) mean_strain += m;
+  std::printf("\n%zu drapes (%zu garments x %zu bodies x %zu sizes): %.2f s per drape on one "
+              "core; worst penetration <0 mm %.3f%%, <1 mm %.3f%%; %d flagged (strain > 15%%); "
+              "unflagged strain mean %.2f%%, worst p99 %.2f%%\n",
+              tasks.size(), imported.size(), bodies.size(), size_list.size(),
+              all_seconds / static_cast<double>(tasks.size()), 100 * all_below0, 100 * all_below1,
+              flagged_total, ok_mean.empty() ? 0 : 100 * mean_strain / ok_mean.size(),
+              ok_p99.empty() ? 0 : 100 * ok_p99.back());
+  std::printf("per body (mean over garments and sizes):\n");
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    double ease = 0, strain = 0;
+    int count = 0, flagged = 0;
+    for (size_t i = 0; i < tasks.size(); ++i) {
+      if (tasks[i].body != b) continue;
+      ++count;
+      ease += reports[i].ease_mean_mm();
+      strain += reports[i].strain_mean();
+      flagged += reports[i].overstretched();
+    }
+    std::printf("  %-12s ease %6.1f mm  strain mean %5.2f%%  flagged %d/%d\n", bodies[b].name.c_str(),
+                ease / count, 100 * strain / count, flagged, count);
+  }
+
+  if (smoothness) {
+    auto pca = proto::PcaBasisFromProto(basis);
+    const Eigen::VectorXd step = 0.1 * std::sqrt(pca->variances(0)) * pca->components.col(0);
+    const core::Positions delta = Eigen::Map<const core::Positions>(step.data(), step.size() / 3, 3);
+    std::printf("\nsmoothness on %s, size M, d = 0.1 sigma along component 0 (mm):\n",
+                bodies[0].name.c_str());
+    std::printf("%-22s %14s %18s\n", "garment", "2nd_diff_inf", "budget_x2_mean");
+    for (const v1::Garment& g : imported) {
+      const core::Positions& b = bodies[0].positions;
+      auto mid = workers::DrapeGarment(g, "M", b);
+      auto plus = workers::DrapeGarment(g, "M", b + delta);
+      auto minus = workers::DrapeGarment(g, "M", b - delta);
+      workers::DrapeSchedule twice;
+      twice.homotopy_steps *= 2;
+      twice.relax_steps *= 2;
+      auto doubled = workers::DrapeGarment(g, "M", b, {}, twice);
+      if (!mid.ok() || !plus.ok() || !minus.ok() || !doubled.ok()) continue;
+      const double second = 1000 * MaxAbs(plus->positions + minus->positions - 2 * mid->positions);
+      const double budget = 1000 * (doubled->positions - mid->positions).rowwise().norm().mean();
+      std::printf("%-22s %14.3f %18.3f\n", g.name().c_str(), second, budget);
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace fitbase
+
+int main(int argc, char** argv) { return fitbase::Main(argc, argv); }

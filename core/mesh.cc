@@ -1,0 +1,21 @@
+#include "core/mesh.h"
+
+namespace fitbase::core {
+
+Triangles Triangulate(const PolygonFaces& faces) {
+  Eigen::Index count = 0;
+  for (int32_t size : faces.sizes) count += size - 2;
+  Triangles triangles(count, 3);
+  Eigen::Index t = 0;
+  size_t corner = 0;
+  for (int32_t size : faces.sizes) {
+    for (int32_t k = 1; k + 1 < size; ++k) {
+      triangles.row(t++) << faces.indices[corner], faces.indices[corner + k],
+          faces.indices[corner + k + 1];
+    }
+    corner += static_cast<size_t>(size);
+  }
+  return triangles;
+}
+
+}  // namespace fitbase::core

@@ -1,0 +1,46 @@
+#include "core/mesh.h"
+
+#include <array>
+#include <vector>
+
+#include "gtest/gtest.h"
+
+namespace fitbase::core {
+namespace {
+
+using Rows = std::vector<std::array<int32_t, 3>>;
+
+Rows RowsOf(const Triangles& triangles) {
+  Rows rows;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    rows.push_back({triangles(t, 0), triangles(t, 1), triangles(t, 2)});
+  }
+  return rows;
+}
+
+TEST(TriangulateTest, TriangleIsUnchanged) {
+  EXPECT_EQ(RowsOf(Triangulate(PolygonFaces{.sizes = {3}, .indices = {4, 9, 2}})),
+            (Rows{{4, 9, 2}}));
+}
+
+TEST(TriangulateTest, QuadSplitsIntoTwoTrianglesWithItsOrientation) {
+  // Both halves must wind like the quad: 7 -> 3 -> 5 -> 1.
+  EXPECT_EQ(RowsOf(Triangulate(PolygonFaces{.sizes = {4}, .indices = {7, 3, 5, 1}})),
+            (Rows{{7, 3, 5}, {7, 5, 1}}));
+}
+
+TEST(TriangulateTest, PentagonBecomesAFanFromItsFirstCorner) {
+  EXPECT_EQ(RowsOf(Triangulate(PolygonFaces{.sizes = {5}, .indices = {0, 1, 2, 3, 4}})),
+            (Rows{{0, 1, 2}, {0, 2, 3}, {0, 3, 4}}));
+}
+
+TEST(TriangulateTest, MixedFacesKeepTheirOrder) {
+  const PolygonFaces faces{.sizes = {4, 3, 5}, .indices = {0, 1, 2, 3, 3, 2, 4, 5, 6, 7, 8, 9}};
+  EXPECT_EQ(RowsOf(Triangulate(faces)),
+            (Rows{{0, 1, 2}, {0, 2, 3}, {3, 2, 4}, {5, 6, 7}, {5, 7, 8}, {5, 8, 9}}));
+}
+
+TEST(TriangulateTest, NoFacesGiveNoTriangles) { EXPECT_EQ(Triangulate(PolygonFaces{}).rows(), 0); }
+
+}  // namespace
+}  // namespace fitbase::core

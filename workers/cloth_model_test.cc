@@ -1,0 +1,54 @@
+#include "workers/cloth_model.h"
+
+#include <algorithm>
+
+#include "gtest/gtest.h"
+#include "workers/test_shapes.h"
+
+namespace fitbase::workers {
+namespace {
+
+TEST(ClothModelTest, QuadGridConstraintsAndMasses) {
+  // 3 x 3 vertices, 4 quads of 0.1 m: 12 sides + 4 diagonals; 8 interior triangle edges
+  // each give one bending pair.
+  core::Mesh grid;
+  grid.positions.resize(9, 3);
+  for (int i = 0; i < 9; ++i) grid.positions.row(i) << 0.1 * (i % 3), 1.0 - 0.1 * (i / 3), 0;
+  for (int r = 0; r < 2; ++r) {
+    for (int c = 0; c < 2; ++c) {
+      const int a = 3 * r + c;
+      grid.faces.sizes.push_back(4);
+      grid.faces.indices.insert(grid.faces.indices.end(), {a, a + 3, a + 4, a + 1});
+    }
+  }
+  auto model = BuildClothModel(grid.positions, grid.faces, 0.2);
+  ASSERT_TRUE(model.ok()) << model.status();
+  EXPECT_EQ(model->triangles.rows(), 8);
+  EXPECT_EQ(model->edges.size(), 16u);
+  EXPECT_EQ(model->bends.size(), 8u);
+  // Total mass = area x density = 0.04 m^2 x 0.2 kg/m^2.
+  EXPECT_NEAR(model->inverse_masses.cwiseInverse().sum(), 0.008, 1e-12);
+  // One piece, one boundary loop: every boundary vertex (all but the centre) is an anchor.
+  EXPECT_EQ(model->anchor_vertices.size(), 8u);
+  EXPECT_TRUE(std::is_sorted(model->edges.begin(), model->edges.end()));
+}
+
+TEST(ClothModelTest, TubeAnchorsItsTopRing) {
+  const core::Mesh tube = Tube(0.2, 0.0, 0.4, 4, 12);
+  auto model = BuildClothModel(tube.positions, tube.faces, 0.2);
+  ASSERT_TRUE(model.ok());
+  ASSERT_EQ(model->anchor_vertices.size(), 12u);
+  for (int32_t v : model->anchor_vertices) EXPECT_DOUBLE_EQ(tube.positions(v, 1), 0.4);
+}
+
+TEST(ClothModelTest, RejectsBadFaces) {
+  const core::Mesh tube = Tube(0.2, 0.0, 0.4, 2, 6);
+  core::PolygonFaces bad = tube.faces;
+  bad.indices[3] = 1000;
+  EXPECT_EQ(BuildClothModel(tube.positions, bad, 0.2).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  EXPECT_FALSE(BuildClothModel(tube.positions, core::PolygonFaces{}, 0.2).ok());
+}
+
+}  // namespace
+}  // namespace fitbase::workers

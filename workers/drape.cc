@@ -1,0 +1,73 @@
+#include "workers/drape.h"
+
+#include <chrono>
+
+#include "absl/strings/str_cat.h"
+#include "core/status_macros.h"
+#include "core/triangle_bvh.h"
+#include "workers/garment_template.h"
+
+namespace fitbase::workers {
+namespace {
+
+constexpr double kMmPerMeter = 1000.0;
+
+absl::Status ValidateInput(const DrapeInput& in) {
+  if (in.model == nullptr) return absl::InvalidArgumentError("drape has no cloth model");
+  const Eigen::Index n = in.model->inverse_masses.size();
+  if (in.start.rows() != n) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("garment start has ", in.start.rows(), " vertices, model ", n));
+  }
+  if (in.edge_rest.size() != static_cast<Eigen::Index>(in.model->edges.size()) ||
+      in.bend_rest.size() != static_cast<Eigen::Index>(in.model->bends.size())) {
+    return absl::InvalidArgumentError("rest lengths do not match the garment's constraints");
+  }
+  if (!(in.edge_rest.array() > 0).all() || !in.edge_rest.allFinite() ||
+      !in.bend_rest.allFinite()) {
+    return absl::InvalidArgumentError("rest lengths must be positive and finite");
+  }
+  if (in.target_body.rows() != in.mean_body.rows()) {
+    return absl::InvalidArgumentError(absl::StrCat("target body has ", in.target_body.rows(),
+                                                   " vertices; the garment's mean avatar has ",
+                                                   in.mean_body.rows()));
+  }
+  if (!in.target_body.allFinite() || !in.mean_body.allFinite() || !in.start.allFinite()) {
+    return absl::InvalidArgumentError("drape input has non-finite positions");
+  }
+  if (!in.regions.empty() && static_cast<Eigen::Index>(in.regions.size()) != n) {
+    return absl::InvalidArgumentError("garment regions do not match its vertices");
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::StatusOr<DrapeResult> Drape(const DrapeInput& in, const ClothSettings& settings,
+                                  const DrapeSchedule& schedule) {
+  RETURN_IF_ERROR(ValidateInput(in));
+  const auto start_time = std::chrono::steady_clock::now();
+  ASSIGN_OR_RETURN(core::TriangleBvh body, core::TriangleBvh::Build(in.mean_body, in.body_triangles));
+  ClothSolver solver(*in.model, in.start, in.edge_rest, in.bend_rest, body, settings);
+  DrapeResult result;
+  for (int step = 1; step <= schedule.homotopy_steps; ++step) {
+    const double t = static_cast<double>(step) / schedule.homotopy_steps;
+    body.Refit((1.0 - t) * in.mean_body + t * in.target_body);
+    solver.Step(body);
+  }
+  if (schedule.homotopy_steps == 0) body.Refit(in.target_body);
+  double last_move = 0;
+  for (int step = 0; step < schedule.relax_steps; ++step) last_move = solver.Step(body);
+  // The last substep's friction and constraints may leave a vertex a hair inside the offset.
+  for (int pass = 0; pass < 4 && solver.ResolveCollisions(body, kTemplatePushSearch) > 0; ++pass) {
+  }
+  result.positions = solver.positions();
+  result.steps = schedule.homotopy_steps + schedule.relax_steps;
+  result.converged_max_move_mm = kMmPerMeter * last_move;
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count();
+  result.metrics = MeasureFit(result.positions, in.model->edges, in.edge_rest, body, in.regions);
+  return result;
+}
+
+}  // namespace fitbase::workers

@@ -1,0 +1,114 @@
+#include "workers/drape.h"
+
+#include "core/content_hash.h"
+#include "gtest/gtest.h"
+#include "workers/garment_template.h"
+#include "workers/test_shapes.h"
+
+namespace fitbase::workers {
+namespace {
+
+// A skirt-like tube hanging around a sphere "body": small enough to drape in well under a
+// second, yet with gravity, anchors, collisions and a body that changes size.
+class DrapeTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    mean_ = UvSphere(0.15, 16, 24);
+    tube_ = Tube(0.16, -0.12, 0.06, 8, 24);
+    auto model = BuildClothModel(tube_.positions, tube_.faces, 0.2);
+    ASSERT_TRUE(model.ok());
+    model_ = *std::move(model);
+  }
+
+  DrapeInput Input(double target_scale, double rest_scale) const {
+    return DrapeInput{.model = &model_,
+                      .start = tube_.positions,
+                      .edge_rest = rest_scale * PairLengths(tube_.positions, model_.edges),
+                      .bend_rest = rest_scale * PairLengths(tube_.positions, model_.bends),
+                      .regions = {},
+                      .mean_body = mean_.positions,
+                      .target_body = target_scale * mean_.positions,
+                      .body_triangles = core::Triangulate(mean_.faces)};
+  }
+
+  static std::string Hash(const core::Positions& p) {
+    return core::ContentHash()
+        .Add(absl::string_view(reinterpret_cast<const char*>(p.data()),
+                               sizeof(double) * static_cast<size_t>(p.size())))
+        .HexDigest();
+  }
+
+  core::Mesh mean_;
+  core::Mesh tube_;
+  ClothModel model_;
+};
+
+TEST_F(DrapeTest, RepeatedRunIsBitwiseIdentical) {
+  auto a = Drape(Input(1.1, 1.0));
+  auto b = Drape(Input(1.1, 1.0));
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(Hash(a->positions), Hash(b->positions));
+}
+
+TEST_F(DrapeTest, NothingInsideTheBodyAndTopStaysPut) {
+  auto result = Drape(Input(1.15, 1.0));
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->metrics.penetration_below_0mm, 0.0);
+  EXPECT_EQ(result->metrics.penetration_below_1mm, 0.0);
+  EXPECT_EQ(result->steps, 90);
+  // The anchored top ring keeps its height relative to the body surface below it.
+  for (int32_t v : model_.anchor_vertices) {
+    EXPECT_GT(result->positions(v, 1), 0.04);
+  }
+}
+
+TEST_F(DrapeTest, LargerSizeSitsLooser) {
+  auto small = Drape(Input(1.0, 0.9));
+  auto large = Drape(Input(1.0, 1.2));
+  ASSERT_TRUE(small.ok() && large.ok());
+  EXPECT_GT(large->metrics.ease_mean_mm, small->metrics.ease_mean_mm + 5.0);
+  EXPECT_GT(small->metrics.strain_mean, large->metrics.strain_mean);
+}
+
+TEST_F(DrapeTest, ConvergesUnderTheFixedBudget) {
+  // A snug band worn on the body. (A hem hanging free of the body keeps fluttering by a
+  // millimeter or two per step; the band is what the convergence figure is about.)
+  const core::Mesh band = Tube(0.16, -0.06, 0.06, 6, 24);
+  auto model = BuildClothModel(band.positions, band.faces, 0.2);
+  ASSERT_TRUE(model.ok());
+  DrapeInput input = Input(1.0, 1.0);
+  input.model = &*model;
+  input.start = band.positions;
+  input.edge_rest = 0.9 * PairLengths(band.positions, model->edges);
+  input.bend_rest = 0.9 * PairLengths(band.positions, model->bends);
+  auto result = Drape(input);
+  ASSERT_TRUE(result.ok());
+  EXPECT_LT(result->converged_max_move_mm, 1.0);
+}
+
+TEST_F(DrapeTest, RejectsBadInput) {
+  DrapeInput wrong_body = Input(1.0, 1.0);
+  wrong_body.target_body = wrong_body.target_body.topRows(10);
+  EXPECT_EQ(Drape(wrong_body).status().code(), absl::StatusCode::kInvalidArgument);
+  DrapeInput nan_body = Input(1.0, 1.0);
+  nan_body.target_body(3, 1) = std::nan("");
+  EXPECT_EQ(Drape(nan_body).status().code(), absl::StatusCode::kInvalidArgument);
+  DrapeInput bad_rest = Input(1.0, 1.0);
+  bad_rest.edge_rest(0) = 0;
+  EXPECT_EQ(Drape(bad_rest).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST(GarmentTemplateTest, PushesAPlacementOutOfTheBody) {
+  const core::Mesh body = UvSphere(0.15, 16, 24);
+  const core::Mesh tube = Tube(0.13, -0.05, 0.05, 4, 24);  // Starts 2 cm inside.
+  auto fitted = FitTemplateToBody(tube.positions, tube.faces, body.positions,
+                                  core::Triangulate(body.faces));
+  ASSERT_TRUE(fitted.ok()) << fitted.status();
+  auto bvh = core::TriangleBvh::Build(body.positions, core::Triangulate(body.faces));
+  for (Eigen::Index v = 0; v < fitted->rows(); ++v) {
+    EXPECT_GE(bvh->Closest(fitted->row(v).transpose(), 1.0).signed_distance, 0.0) << v;
+  }
+}
+
+}  // namespace
+}  // namespace fitbase::workers

@@ -1,0 +1,70 @@
+#include "workers/fit_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace fitbase::workers {
+namespace {
+
+constexpr double kMmPerMeter = 1000.0;
+
+double Mean(const std::vector<double>& values) {
+  return values.empty() ? 0.0
+                        : std::accumulate(values.begin(), values.end(), 0.0) /
+                              static_cast<double>(values.size());
+}
+
+}  // namespace
+
+double Quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  const double n = static_cast<double>(values.size());
+  const size_t rank =
+      std::min(values.size() - 1, q <= 0 ? size_t{0} : static_cast<size_t>(std::ceil(q * n)) - 1);
+  std::nth_element(values.begin(), values.begin() + static_cast<ptrdiff_t>(rank), values.end());
+  return values[rank];
+}
+
+FitMetrics MeasureFit(const core::Positions& positions,
+                      const std::vector<std::array<int32_t, 2>>& edges,
+                      const Eigen::VectorXd& edge_rest, const core::TriangleBvh& body,
+                      const std::vector<core::BodyRegion>& regions, double ease_search) {
+  FitMetrics m;
+  const Eigen::Index n = positions.rows();
+  m.vertex_count = n;
+  std::vector<double> ease(static_cast<size_t>(n));
+  std::array<std::vector<double>, core::kBodyRegionCount> by_region;
+  int64_t below_0 = 0, below_1 = 0;
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const core::SurfacePoint hit = body.Closest(positions.row(v).transpose(), ease_search);
+    const double mm = kMmPerMeter * (hit.found ? hit.signed_distance : ease_search);
+    ease[v] = mm;
+    below_0 += mm < 0.0;
+    below_1 += mm < 1.0;
+    if (!regions.empty()) by_region[static_cast<int>(regions[v])].push_back(mm);
+  }
+  m.penetration_below_0mm = static_cast<double>(below_0) / static_cast<double>(n);
+  m.penetration_below_1mm = static_cast<double>(below_1) / static_cast<double>(n);
+  m.ease_mean_mm = Mean(ease);
+  m.ease_p50_mm = Quantile(ease, 0.5);
+  m.ease_p95_mm = Quantile(ease, 0.95);
+  for (int r = 0; r < core::kBodyRegionCount; ++r) {
+    if (by_region[r].empty()) continue;
+    m.region_ease.push_back({static_cast<core::BodyRegion>(r),
+                             static_cast<int64_t>(by_region[r].size()), Mean(by_region[r]),
+                             Quantile(by_region[r], 0.95)});
+  }
+  std::vector<double> strain(edges.size());
+  for (size_t e = 0; e < edges.size(); ++e) {
+    const double length = (positions.row(edges[e][0]) - positions.row(edges[e][1])).norm();
+    strain[e] = std::abs(length / edge_rest(static_cast<Eigen::Index>(e)) - 1.0);
+  }
+  m.strain_mean = Mean(strain);
+  m.strain_p99 = Quantile(strain, 0.99);
+  m.strain_max = strain.empty() ? 0.0 : *std::max_element(strain.begin(), strain.end());
+  m.overstretched = m.strain_p99 > kOverstretchStrain;
+  return m;
+}
+
+}  // namespace fitbase::workers

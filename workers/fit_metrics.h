@@ -1,0 +1,54 @@
+#ifndef FITBASE_WORKERS_FIT_METRICS_H_
+#define FITBASE_WORKERS_FIT_METRICS_H_
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "Eigen/Core"
+#include "core/body_skeleton.h"
+#include "core/mesh.h"
+#include "core/triangle_bvh.h"
+
+namespace fitbase::workers {
+
+// A drape whose p99 edge strain exceeds this is flagged: the size is too small for the body
+// (a single edge over it is a local defect, reported as strain_max, not a verdict on the size).
+inline constexpr double kOverstretchStrain = 0.15;
+
+struct RegionEase {
+  core::BodyRegion region;
+  int64_t vertex_count = 0;
+  double mean_mm = 0;
+  double p95_mm = 0;
+};
+
+// How a garment sits on a body. Distances in mm, strain as a ratio.
+struct FitMetrics {
+  int64_t vertex_count = 0;
+  double penetration_below_0mm = 0;  // Share of vertices with signed distance < 0.
+  double penetration_below_1mm = 0;  // Share with signed distance < 1 mm.
+  double strain_mean = 0;            // |l / l0 - 1| over the edges.
+  double strain_p99 = 0;
+  double strain_max = 0;
+  bool overstretched = false;
+  double ease_mean_mm = 0;  // Signed garment-to-body distance.
+  double ease_p50_mm = 0;
+  double ease_p95_mm = 0;
+  std::vector<RegionEase> region_ease;  // Regions the garment covers, in BodyRegion order.
+};
+
+// positions: the garment, V x 3 (m); edges and their rest lengths; body: the BVH of the body
+// it sits on; regions: per vertex, the body region (empty: no per-region figures).
+// Vertices farther than `ease_search` (m) from the body count as that far away.
+FitMetrics MeasureFit(const core::Positions& positions,
+                      const std::vector<std::array<int32_t, 2>>& edges,
+                      const Eigen::VectorXd& edge_rest, const core::TriangleBvh& body,
+                      const std::vector<core::BodyRegion>& regions, double ease_search = 0.5);
+
+// The q-quantile (0..1) of `values` by nearest rank; 0 for none.
+double Quantile(std::vector<double> values, double q);
+
+}  // namespace fitbase::workers
+
+#endif  // FITBASE_WORKERS_FIT_METRICS_H_

@@ -1,0 +1,173 @@
+#include "workers/garment_drape.h"
+
+#include <chrono>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "core/body_model.h"
+#include "core/mhclo_binding.h"
+#include "core/status_macros.h"
+#include "core/triangle_bvh.h"
+#include "proto/garment_codec.h"
+#include "proto/mesh_codec.h"
+#include "workers/size_grading.h"
+
+namespace fitbase::workers {
+namespace {
+
+// What every fit of one garment needs, decoded and validated from the message.
+struct PreparedGarment {
+  core::GarmentMesh template_mesh;
+  ClothModel model;
+  std::vector<core::BodyRegion> regions;
+  core::Positions mean_full;  // 19,158 x 3.
+  core::Positions mean_body;  // 13,380 x 3.
+  core::Triangles body_triangles;
+  Eigen::VectorXd edge_rest;
+  Eigen::VectorXd bend_rest;
+};
+
+absl::StatusOr<const v1::GarmentSize*> FindSize(const v1::Garment& garment,
+                                                absl::string_view size) {
+  std::vector<std::string> names;
+  for (const v1::GarmentSize& s : garment.sizes()) {
+    if (s.name() == size) return &s;
+    names.push_back(s.name());
+  }
+  return absl::NotFoundError(absl::StrCat("garment ", garment.name(), " has no size '", size,
+                                          "'; its sizes are ", absl::StrJoin(names, ", ")));
+}
+
+absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string_view size,
+                                        const core::Positions& target_body) {
+  PreparedGarment g;
+  ASSIGN_OR_RETURN(const v1::GarmentSize* garment_size, FindSize(garment, size));
+  ASSIGN_OR_RETURN(g.template_mesh, proto::GarmentTemplateFromProto(garment));
+  ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(garment.mean_avatar()));
+  if (mean.vertex_count() != core::kFullVertexCount) {
+    return absl::InvalidArgumentError(absl::StrCat("garment's mean avatar has ",
+                                                   mean.vertex_count(), " vertices, not ",
+                                                   core::kFullVertexCount));
+  }
+  if (target_body.rows() != core::kBodyVertexCount) {
+    return absl::InvalidArgumentError(absl::StrCat("avatar has ", target_body.rows(),
+                                                   " vertices; a ", core::kBodyTopologyId,
+                                                   " avatar has ", core::kBodyVertexCount));
+  }
+  if (!target_body.allFinite()) return absl::InvalidArgumentError("avatar has non-finite positions");
+  g.mean_full = std::move(mean.positions);
+  g.mean_body = g.mean_full.topRows(core::kBodyVertexCount);
+  // The body faces are those of the full mesh whose corners are all body vertices.
+  core::PolygonFaces body_faces;
+  size_t corner = 0;
+  for (int32_t s : mean.faces.sizes) {
+    const auto first = mean.faces.indices.begin() + static_cast<ptrdiff_t>(corner);
+    corner += static_cast<size_t>(s);
+    if (std::all_of(first, first + s, [](int32_t v) { return v < core::kBodyVertexCount; })) {
+      body_faces.sizes.push_back(s);
+      body_faces.indices.insert(body_faces.indices.end(), first, first + s);
+    }
+  }
+  g.body_triangles = core::Triangulate(body_faces);
+  const core::Positions& rest = g.template_mesh.mesh.positions;
+  ClothSettings settings;
+  ASSIGN_OR_RETURN(g.model, BuildClothModel(rest, g.template_mesh.mesh.faces, settings.areal_density));
+  ASSIGN_OR_RETURN(g.regions, proto::RegionsFromProto(garment));
+  if (garment_size->has_rest()) {
+    ASSIGN_OR_RETURN(core::Mesh size_mesh, proto::MeshFromProto(garment_size->rest()));
+    if (size_mesh.vertex_count() != rest.rows()) {
+      return absl::InvalidArgumentError(absl::StrCat("size ", size, " mesh has ",
+                                                     size_mesh.vertex_count(), " vertices; the template ",
+                                                     rest.rows()));
+    }
+    g.edge_rest = PairLengths(size_mesh.positions, g.model.edges);
+    g.bend_rest = PairLengths(size_mesh.positions, g.model.bends);
+  } else {
+    ASSIGN_OR_RETURN(core::Positions axes, proto::LengthAxesFromProto(garment));
+    g.edge_rest = GradedRestLengths(rest, axes, g.model.edges, garment_size->grading_step());
+    g.bend_rest = GradedRestLengths(rest, axes, g.model.bends, garment_size->grading_step());
+  }
+  return g;
+}
+
+v1::DrapeReport ReportOf(const v1::Garment& garment, absl::string_view size,
+                         absl::string_view method, const FitMetrics& m) {
+  v1::DrapeReport r;
+  r.set_garment_id(garment.id());
+  r.set_size(std::string(size));
+  r.set_method(std::string(method));
+  r.set_vertex_count(static_cast<uint32_t>(m.vertex_count));
+  r.set_penetration_below_0mm(m.penetration_below_0mm);
+  r.set_penetration_below_1mm(m.penetration_below_1mm);
+  r.set_strain_mean(m.strain_mean);
+  r.set_strain_p99(m.strain_p99);
+  r.set_strain_max(m.strain_max);
+  r.set_overstretched(m.overstretched);
+  r.set_ease_mean_mm(m.ease_mean_mm);
+  r.set_ease_p50_mm(m.ease_p50_mm);
+  r.set_ease_p95_mm(m.ease_p95_mm);
+  for (const RegionEase& e : m.region_ease) {
+    v1::RegionEase* region = r.add_region_ease();
+    region->set_region(std::string(core::BodyRegionName(e.region)));
+    region->set_vertex_count(static_cast<uint32_t>(e.vertex_count));
+    region->set_ease_mean_mm(e.mean_mm);
+    region->set_ease_p95_mm(e.p95_mm);
+  }
+  return r;
+}
+
+}  // namespace
+
+absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string_view size,
+                                        const core::Positions& target_body,
+                                        const ClothSettings& settings,
+                                        const DrapeSchedule& schedule) {
+  ASSIGN_OR_RETURN(PreparedGarment g, Prepare(garment, size, target_body));
+  DrapeInput input{.model = &g.model,
+                   .start = g.template_mesh.mesh.positions,
+                   .edge_rest = g.edge_rest,
+                   .bend_rest = g.bend_rest,
+                   .regions = g.regions,
+                   .mean_body = g.mean_body,
+                   .target_body = target_body,
+                   .body_triangles = g.body_triangles};
+  ASSIGN_OR_RETURN(DrapeResult drape, Drape(input, settings, schedule));
+  GarmentFit fit{std::move(drape.positions), ReportOf(garment, size, "drape", drape.metrics)};
+  fit.report.set_converged_max_move_mm(drape.converged_max_move_mm);
+  fit.report.set_steps(static_cast<uint32_t>(drape.steps));
+  fit.report.set_seconds(drape.seconds);
+  return fit;
+}
+
+absl::StatusOr<GarmentFit> GeometricFit(const v1::Garment& garment, absl::string_view size,
+                                        const core::Positions& target_body) {
+  if (!garment.has_binding()) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "garment ", garment.name(), " was imported without a .mhclo binding: no geometric fit"));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  ASSIGN_OR_RETURN(PreparedGarment g, Prepare(garment, size, target_body));
+  ASSIGN_OR_RETURN(core::MhcloBinding binding,
+                   proto::MhcloBindingFromProto(garment.binding(), g.template_mesh.mesh.vertex_count(),
+                                                core::kFullVertexCount));
+  // Helper and joint vertices follow the body surface nearest them on the mean avatar.
+  ASSIGN_OR_RETURN(core::TriangleBvh mean_bvh, core::TriangleBvh::Build(g.mean_body, g.body_triangles));
+  core::Positions full = g.mean_full;
+  full.topRows(core::kBodyVertexCount) = target_body;
+  const core::Positions displacement = target_body - g.mean_body;
+  for (Eigen::Index v = core::kBodyVertexCount; v < full.rows(); ++v) {
+    const core::SurfacePoint hit = mean_bvh.Closest(g.mean_full.row(v).transpose(), 10.0);
+    const auto tri = g.body_triangles.row(hit.triangle);
+    for (int k = 0; k < 3; ++k) full.row(v) += hit.barycentric(k) * displacement.row(tri(k));
+  }
+  GarmentFit fit;
+  fit.positions = core::ApplyMhclo(binding, full);
+  ASSIGN_OR_RETURN(core::TriangleBvh target_bvh, core::TriangleBvh::Build(target_body, g.body_triangles));
+  fit.report = ReportOf(garment, size, "geometric",
+                        MeasureFit(fit.positions, g.model.edges, g.edge_rest, target_bvh, g.regions));
+  fit.report.set_seconds(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return fit;
+}
+
+}  // namespace fitbase::workers
