@@ -11,31 +11,10 @@
 #include "absl/strings/str_split.h"
 #include "core/file_util.h"
 #include "core/status_macros.h"
+#include "core/text_tokens.h"
 
 namespace fitbase::core {
 namespace {
-
-template <typename T>
-bool ParseNumber(absl::string_view token, T& value) {
-  const char* end = token.data() + token.size();
-  auto [ptr, ec] = std::from_chars(token.data(), end, value);
-  return ec == std::errc() && ptr == end;
-}
-
-// Split by hand: absl::string_view::find_first_of builds a lookup table on every call, which
-// would dominate a file of tens of thousands of short lines.
-void SplitTokens(absl::string_view line, std::vector<absl::string_view>& tokens) {
-  tokens.clear();
-  const char* p = line.data();
-  const char* const end = p + line.size();
-  while (p != end) {
-    while (p != end && (*p == ' ' || *p == '\t')) ++p;
-    const char* const token_start = p;
-    while (p != end && *p != ' ' && *p != '\t') ++p;
-    if (p == token_start) break;
-    tokens.emplace_back(token_start, static_cast<size_t>(p - token_start));
-  }
-}
 
 // Resolves a 1-based (or negative, relative to the `count` elements defined so far) OBJ index
 // to a 0-based one; false if it is 0, not an integer, or refers to an element not yet defined.

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The main job, embedded on one machine: sets up, then builds avatar populations and PCA
-# avatar bases for each preset, and measures how well held-out avatars reconstruct.
+# avatar bases for each preset, measures how well held-out avatars reconstruct, and drapes a
+# shared garment in three sizes onto a held-out customer.
 # Everything it writes lands in demo-out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,6 +32,20 @@ for sigma in -1 1; do
     --out "$out/all/example-pc0-${sigma}sigma.obj" > /dev/null
 done
 
+# The offline fitter: one shared garment, imported onto the `all` basis's mean avatar and
+# draped in three sizes onto a held-out customer, next to the geometric baseline.
+garment=female_casualsuit01
+"$fitbase" garment import --mhclo "data/makehuman/clothes/$garment/$garment.mhclo" \
+  --basis "$out/all/avatars.fbb" --sizes S,M,XL --out "$out/$garment.fbg"
+customer="$out/all/holdout/avatar-00001.obj"
+cp "$customer" "$out/customer.obj"
+for size in S M XL; do
+  "$fitbase" drape --garment "$out/$garment.fbg" --size "$size" --avatar "$customer" \
+    --out "$out/$garment-$size.obj" --report "$out/$garment-$size.json" | tee -a "$out/drapes.txt"
+done
+"$fitbase" drape --method geometric --garment "$out/$garment.fbg" --size M --avatar "$customer" \
+  --out "$out/$garment-geometric.obj" --report "$out/$garment-geometric.json" | tee -a "$out/drapes.txt"
+
 echo
 echo "== Summary (per-vertex reconstruction error of held-out avatars, default selection: training mean <= 1 mm)"
 printf '%-7s %11s %10s %14s %14s %15s\n' preset components variance% train_mean_mm heldout_mean_mm heldout_worst_mm
@@ -44,4 +59,8 @@ for preset in women men all; do
   printf '%-7s %11s %10s %14s %14s %15s\n' "$preset" "$components" "$variance" "$train" "$heldout" "$worst"
 done
 echo
-echo "Outputs in $out/: populations (OBJ + params.jsonl), bases (*.fbb), all/customer-weights.json, all/example-pc0-*.obj"
+echo "== Drapes of $garment on $customer (see $out/drapes.txt)"
+grep -E "^(drape|geometric)" "$out/drapes.txt" | sed -E 's/ \([^)]*\.obj\)//'
+echo
+echo "Outputs in $out/: populations (OBJ + params.jsonl), bases (*.fbb), all/customer-weights.json,"
+echo "all/example-pc0-*.obj, $garment.fbg, customer.obj and its drapes $garment-{S,M,XL,geometric}.obj (+ .json reports)"

@@ -6,6 +6,7 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "proto/json_codec.h"
+#include "proto/message_file.h"
 #include "tests/cli_runner.h"
 
 namespace fitbase {
@@ -91,6 +92,33 @@ TEST_F(GarmentCliTest, SizeChangesTheDrapeButNotTheGeometricFit) {
   ASSERT_EQ(Drape("XL", "geo_xl", "geometric").exit_code, 0);
   EXPECT_EQ(*core::ReadFileToString(*dir_ / "geo_s.obj"),
             *core::ReadFileToString(*dir_ / "geo_xl.obj"));
+}
+
+TEST_F(GarmentCliTest, ImportsARetailersPlacedObj) {
+  // A retailer's garment: an OBJ already placed on the mean avatar, in meters.
+  const fs::path dir = Scratch("placed");
+  ASSERT_EQ(RunFitbase({"basis", "example", "--basis", (*dir_ / "b.fbb").string(), "--component",
+                        "0", "--sigma", "0", "--out", (dir / "mean.obj").string()})
+                .exit_code,
+            0);
+  ASSERT_EQ(RunFitbase({"drape", "--garment", (*dir_ / "g.fbg").string(), "--avatar",
+                        (dir / "mean.obj").string(), "--method", "geometric", "--out",
+                        (dir / "placed.obj").string()})
+                .exit_code,
+            0);
+  Result r = RunFitbase({"garment", "import", "--obj", (dir / "placed.obj").string(), "--basis",
+                         (*dir_ / "b.fbb").string(), "--sizes", "M,L", "--out",
+                         (dir / "retail.fbg").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  v1::Garment garment;
+  ASSERT_TRUE(proto::ReadMessageFile(dir / "retail.fbg", &garment).ok());
+  EXPECT_EQ(garment.source().kind(), "obj");
+  EXPECT_EQ(garment.name(), "placed");
+  EXPECT_EQ(garment.sizes_size(), 2);
+  r = RunFitbase({"drape", "--garment", (dir / "retail.fbg").string(), "--avatar",
+                  Avatar().string(), "--method", "geometric", "--out", (dir / "g.obj").string()});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("without a .mhclo binding"));
 }
 
 TEST_F(GarmentCliTest, BadInputsAreNamed) {
