@@ -81,6 +81,7 @@ double ClothSolver::Step(const core::TriangleBvh& body) {
   const core::Positions before = positions_;
   const double h = settings_.step_seconds / settings_.substeps;
   FindPokes(body);
+  floor_ = body.positions().col(1).minCoeff();
   for (int s = 0; s < settings_.substeps; ++s) Substep(body, h);
   return (positions_ - before).rowwise().norm().maxCoeff();
 }
@@ -142,6 +143,13 @@ void ClothSolver::SolveAnchors(const core::TriangleBvh& body, double alpha) {
 void ClothSolver::Collide(const core::TriangleBvh& body, double search, bool with_friction) {
   for (Eigen::Index v = 0; v < positions_.rows(); ++v) {
     if (model_.inverse_masses(v) == 0) continue;
+    if (positions_(v, 1) < floor_ + settings_.collision_offset) {
+      positions_(v, 1) = floor_ + settings_.collision_offset;
+      if (with_friction) {
+        positions_(v, 0) -= settings_.friction * (positions_(v, 0) - previous_(v, 0));
+        positions_(v, 2) -= settings_.friction * (positions_(v, 2) - previous_(v, 2));
+      }
+    }
     const core::SurfacePoint hit = body.Closest(positions_.row(v).transpose(), search);
     if (!hit.found || hit.signed_distance >= settings_.collision_offset) continue;
     positions_.row(v) = (hit.point + settings_.collision_offset * hit.normal).transpose();
@@ -243,6 +251,7 @@ void ClothSolver::SolveTethers() {
 
 int ClothSolver::ResolveCollisions(const core::TriangleBvh& body, double search) {
   const core::Positions before = positions_;
+  floor_ = body.positions().col(1).minCoeff();
   Collide(body, search, /*with_friction=*/false);
   return static_cast<int>(((positions_ - before).rowwise().squaredNorm().array() > 0).count());
 }

@@ -23,7 +23,7 @@ struct ClothSettings {
   double bend_compliance = 2e-4;
   double anchor_compliance = 1e-6;
   // Share of the velocity removed per substep: quasi-static drapes want strong damping.
-  double damping = 0.05;
+  double damping = 0.1;
   double collision_offset = 0.0025;
   double collision_search = 0.03;  // Penetrations deeper than this are not seen.
   double friction = 0.1;           // Share of tangential slip removed on contact.
@@ -86,6 +86,9 @@ class ClothSolver {
   };
   std::vector<Tether> tethers_;
   std::optional<core::TriangleBvh> garment_bvh_;
+  // The floor the body stands on (its lowest point), m: long hems rest on it instead of
+  // swinging under the feet.
+  double floor_ = 0;
   struct Poke {
     int32_t body_vertex;
     int32_t triangle;
