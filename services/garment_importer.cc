@@ -83,6 +83,7 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
   id.Add(kImportVersion).Add(basis.id());
   core::GarmentMesh source;
   core::Positions placed;
+  core::Positions rest;
   if (!request.mhclo.empty()) {
     ASSIGN_OR_RETURN(core::MhcloBinding binding, core::ReadMhclo(request.mhclo, core::kFullVertexCount));
     const std::filesystem::path obj_path = request.mhclo.parent_path() / binding.obj_file;
@@ -93,6 +94,7 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
           request.mhclo.string(), " binds ", binding.vertex_count()));
     }
     placed = core::ApplyMhclo(binding, mean_full.positions);
+    rest = core::kMetersPerDataUnit * source.mesh.positions;
     *garment.mutable_binding() = proto::MhcloBindingToProto(binding);
     garment.set_name(request.name.empty() ? request.mhclo.stem().string() : request.name);
     garment.mutable_source()->set_kind("mhclo");
@@ -103,6 +105,7 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
   } else {
     ASSIGN_OR_RETURN(source, core::ReadGarmentObj(request.obj));
     placed = source.mesh.positions;
+    rest = placed;
     const Eigen::RowVector3d extent = placed.colwise().maxCoeff() - placed.colwise().minCoeff();
     if (extent.maxCoeff() > kMaxGarmentExtent) {
       return absl::InvalidArgumentError(absl::StrCat(
@@ -118,10 +121,12 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
   id.Add(garment.source().sha256());
 
   ASSIGN_OR_RETURN(core::Positions template_positions,
-                   workers::FitTemplateToBody(placed, source.mesh.faces, mean_body,
+                   workers::FitTemplateToBody(placed, rest, source.mesh.faces, mean_body,
                                               core::Triangulate(model.body_faces())));
-  source.mesh.positions = template_positions;
   source.mesh.topology_id = absl::StrCat("garment-", garment.name());
+  source.mesh.positions = rest;
+  *garment.mutable_rest_mesh() = proto::MeshToProto(source.mesh);
+  source.mesh.positions = template_positions;
   *garment.mutable_template_mesh() = proto::MeshToProto(source.mesh);
   for (Eigen::Index i = 0; i < source.texcoords.size(); ++i) {
     garment.add_texcoords(static_cast<float>(source.texcoords.data()[i]));

@@ -23,9 +23,10 @@ absl::Status ValidateInput(const DrapeInput& in) {
       in.bend_rest.size() != static_cast<Eigen::Index>(in.model->bends.size())) {
     return absl::InvalidArgumentError("rest lengths do not match the garment's constraints");
   }
-  if (!(in.edge_rest.array() > 0).all() || !in.edge_rest.allFinite() ||
-      !in.bend_rest.allFinite()) {
-    return absl::InvalidArgumentError("rest lengths must be positive and finite");
+  // Zero is allowed: garments weld coincident seam vertices with zero-length edges.
+  if (!(in.edge_rest.array() >= 0).all() || !(in.bend_rest.array() >= 0).all() ||
+      !in.edge_rest.allFinite() || !in.bend_rest.allFinite()) {
+    return absl::InvalidArgumentError("rest lengths must be non-negative and finite");
   }
   if (in.target_body.rows() != in.mean_body.rows()) {
     return absl::InvalidArgumentError(absl::StrCat("target body has ", in.target_body.rows(),

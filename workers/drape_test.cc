@@ -94,14 +94,14 @@ TEST_F(DrapeTest, RejectsBadInput) {
   nan_body.target_body(3, 1) = std::nan("");
   EXPECT_EQ(Drape(nan_body).status().code(), absl::StatusCode::kInvalidArgument);
   DrapeInput bad_rest = Input(1.0, 1.0);
-  bad_rest.edge_rest(0) = 0;
+  bad_rest.edge_rest(0) = -0.01;
   EXPECT_EQ(Drape(bad_rest).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 TEST(GarmentTemplateTest, PushesAPlacementOutOfTheBody) {
   const core::Mesh body = UvSphere(0.15, 16, 24);
   const core::Mesh tube = Tube(0.13, -0.05, 0.05, 4, 24);  // Starts 2 cm inside.
-  auto fitted = FitTemplateToBody(tube.positions, tube.faces, body.positions,
+  auto fitted = FitTemplateToBody(tube.positions, tube.positions, tube.faces, body.positions,
                                   core::Triangulate(body.faces));
   ASSERT_TRUE(fitted.ok()) << fitted.status();
   auto bvh = core::TriangleBvh::Build(body.positions, core::Triangulate(body.faces));

@@ -8,6 +8,7 @@ namespace fitbase::workers {
 namespace {
 
 constexpr double kMmPerMeter = 1000.0;
+constexpr double kMinStrainRest = 1e-6;
 
 double Mean(const std::vector<double>& values) {
   return values.empty() ? 0.0
@@ -55,10 +56,14 @@ FitMetrics MeasureFit(const core::Positions& positions,
                              static_cast<int64_t>(by_region[r].size()), Mean(by_region[r]),
                              Quantile(by_region[r], 0.95)});
   }
-  std::vector<double> strain(edges.size());
+  std::vector<double> strain;
+  strain.reserve(edges.size());
   for (size_t e = 0; e < edges.size(); ++e) {
+    const double rest = edge_rest(static_cast<Eigen::Index>(e));
+    // A weld (two coincident seam vertices) has no strain to speak of.
+    if (rest < kMinStrainRest) continue;
     const double length = (positions.row(edges[e][0]) - positions.row(edges[e][1])).norm();
-    strain[e] = std::abs(length / edge_rest(static_cast<Eigen::Index>(e)) - 1.0);
+    strain.push_back(std::abs(length / rest - 1.0));
   }
   m.strain_mean = Mean(strain);
   m.strain_p99 = Quantile(strain, 0.99);

@@ -7,21 +7,25 @@
 namespace fitbase::workers {
 
 absl::StatusOr<core::Positions> FitTemplateToBody(const core::Positions& placed,
+                                                  const core::Positions& rest,
                                                   const core::PolygonFaces& faces,
                                                   const core::Positions& body,
                                                   const core::Triangles& body_triangles,
                                                   const ClothSettings& settings,
                                                   int relax_steps) {
-  if (!placed.allFinite()) return absl::InvalidArgumentError("garment placement is not finite");
+  if (!placed.allFinite() || !rest.allFinite()) {
+    return absl::InvalidArgumentError("garment placement or rest shape is not finite");
+  }
+  if (rest.rows() != placed.rows()) {
+    return absl::InvalidArgumentError("garment rest shape and placement differ in vertex count");
+  }
   ASSIGN_OR_RETURN(ClothModel model, BuildClothModel(placed, faces, settings.areal_density));
   ASSIGN_OR_RETURN(core::TriangleBvh bvh, core::TriangleBvh::Build(body, body_triangles));
   ClothSolver pusher(model, placed, PairLengths(placed, model.edges),
                      PairLengths(placed, model.bends), bvh, settings);
   pusher.ResolveCollisions(bvh, kTemplatePushSearch);
-  // Rest lengths are those of the placement: the relaxation only settles the garment on the
-  // body; it must not change the garment's size.
-  ClothSolver solver(model, pusher.positions(), PairLengths(placed, model.edges),
-                     PairLengths(placed, model.bends), bvh, settings);
+  ClothSolver solver(model, pusher.positions(), PairLengths(rest, model.edges),
+                     PairLengths(rest, model.bends), bvh, settings);
   for (int step = 0; step < relax_steps; ++step) solver.Step(bvh);
   solver.ResolveCollisions(bvh, kTemplatePushSearch);
   return solver.positions();

@@ -13,10 +13,11 @@ namespace fitbase::workers {
 inline constexpr double kTemplatePushSearch = 0.08;
 
 // Turns a garment placed on the mean avatar into its template: every vertex pushed outside
-// the body by the collision offset, then relaxed under gravity for `relax_steps` with the
-// placement's own edge lengths as rest lengths. placed: V x 3 (m); body: the mean avatar's
-// body (13,380 x 3, m) with its triangles. Vertex order and faces are unchanged.
+// the body by the collision offset, then relaxed under gravity for `relax_steps` towards the
+// edge lengths of `rest` (the garment's own shape). placed, rest: V x 3 (m); body: the mean
+// avatar's body (13,380 x 3, m) with its triangles. Vertex order and faces are unchanged.
 absl::StatusOr<core::Positions> FitTemplateToBody(const core::Positions& placed,
+                                                  const core::Positions& rest,
                                                   const core::PolygonFaces& faces,
                                                   const core::Positions& body,
                                                   const core::Triangles& body_triangles,
