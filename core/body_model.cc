@@ -15,22 +15,6 @@
 namespace fitbase::core {
 namespace {
 
-// The body group's faces: in hm08 they are exactly the faces whose corners all lie in
-// 0..kBodyVertexCount-1, which avoids depending on OBJ group names that OpenMesh drops.
-PolygonFaces BodyFacesOf(const PolygonFaces& faces) {
-  PolygonFaces body;
-  size_t corner = 0;
-  for (int32_t size : faces.sizes) {
-    const auto first = faces.indices.begin() + static_cast<std::ptrdiff_t>(corner);
-    corner += static_cast<size_t>(size);
-    if (std::all_of(first, first + size, [](int32_t v) { return v < kBodyVertexCount; })) {
-      body.sizes.push_back(size);
-      body.indices.insert(body.indices.end(), first, first + size);
-    }
-  }
-  return body;
-}
-
 // The vertex sets of the OBJ's `g` groups, from the faces listed under each (OpenMesh keeps
 // faces in file order but drops group names).
 std::map<std::string, std::vector<int32_t>, std::less<>> GroupsOf(absl::string_view obj_text,
@@ -55,6 +39,20 @@ std::map<std::string, std::vector<int32_t>, std::less<>> GroupsOf(absl::string_v
 }
 
 }  // namespace
+
+PolygonFaces BodyFacesOf(const PolygonFaces& faces) {
+  PolygonFaces body;
+  size_t corner = 0;
+  for (int32_t size : faces.sizes) {
+    const auto first = faces.indices.begin() + static_cast<std::ptrdiff_t>(corner);
+    corner += static_cast<size_t>(size);
+    if (std::all_of(first, first + size, [](int32_t v) { return v < kBodyVertexCount; })) {
+      body.sizes.push_back(size);
+      body.indices.insert(body.indices.end(), first, first + size);
+    }
+  }
+  return body;
+}
 
 std::vector<int32_t> BodyModel::GroupVertices(absl::string_view name) const {
   const auto it = groups_.find(name);

@@ -22,6 +22,11 @@ inline constexpr absl::string_view kBodyTopologyId = "makehuman-hm08-body";
 // base.obj and the targets are in decimeters.
 inline constexpr double kMetersPerDataUnit = 0.1;
 
+// The body (skin) faces of the full hm08 faces: exactly those whose corners all lie in
+// 0..kBodyVertexCount-1 (the `body` group), found without the OBJ group names that OpenMesh
+// drops.
+PolygonFaces BodyFacesOf(const PolygonFaces& full_faces);
+
 // The MakeHuman body model: the hm08 reference mesh and every target the macro parameters
 // and local modifiers can weight, loaded once, so that a new body costs one sparse pass.
 class BodyModel {

@@ -57,18 +57,7 @@ absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string
   if (!target_body.allFinite()) return absl::InvalidArgumentError("avatar has non-finite positions");
   g.mean_full = std::move(mean.positions);
   g.mean_body = g.mean_full.topRows(core::kBodyVertexCount);
-  // The body faces are those of the full mesh whose corners are all body vertices.
-  core::PolygonFaces body_faces;
-  size_t corner = 0;
-  for (int32_t s : mean.faces.sizes) {
-    const auto first = mean.faces.indices.begin() + static_cast<ptrdiff_t>(corner);
-    corner += static_cast<size_t>(s);
-    if (std::all_of(first, first + s, [](int32_t v) { return v < core::kBodyVertexCount; })) {
-      body_faces.sizes.push_back(s);
-      body_faces.indices.insert(body_faces.indices.end(), first, first + s);
-    }
-  }
-  g.body_triangles = core::Triangulate(body_faces);
+  g.body_triangles = core::Triangulate(core::BodyFacesOf(mean.faces));
   const core::Positions& rest = g.template_mesh.mesh.positions;
   ClothSettings settings;
   ASSIGN_OR_RETURN(g.model, BuildClothModel(rest, g.template_mesh.mesh.faces, settings.areal_density));
