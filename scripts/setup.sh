@@ -38,7 +38,8 @@ if [ ! -e "$data/base.obj" ]; then
   else
     makehuman_commit=a8bc2d54ff0ac92e78ff71431b1023eda42bf482
     assets_commit=8cf9645b975a98eea056b140df11a1d278da0d10
-    github=https://raw.githubusercontent.com/makehumancommunity
+    # FITBASE_DATA_MIRROR: the same layout elsewhere (a proxy, or file:// in a test).
+    github=${FITBASE_DATA_MIRROR:-https://raw.githubusercontent.com/makehumancommunity}
     partial="$data.partial"
     rm -rf "$partial"
     total=$(wc -l < "$manifest")
