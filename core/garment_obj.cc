@@ -154,7 +154,8 @@ absl::Status WriteGarmentObj(const std::filesystem::path& path, const GarmentMes
   std::string text;
   text.reserve(static_cast<size_t>(mesh.vertex_count()) * 40 +
                static_cast<size_t>(garment.texcoords.rows()) * 28 + corner_count * 12);
-  text += "# fitbase garment\n";
+  absl::StrAppend(&text, "# fitbase mesh, topology ",
+                  mesh.topology_id.empty() ? "unnamed" : mesh.topology_id, ", meters\n");
   for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
     absl::StrAppendFormat(&text, "v %.9g %.9g %.9g\n", mesh.positions(v, 0), mesh.positions(v, 1),
                           mesh.positions(v, 2));

@@ -5,11 +5,11 @@
 
 #include "OpenMesh/Core/IO/MeshIO.hh"
 #include "OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh"
-#include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
 #include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "core/file_util.h"
+#include "core/garment_obj.h"
 #include "core/status_macros.h"
 
 namespace fitbase::core {
@@ -87,23 +87,7 @@ absl::StatusOr<Mesh> ReadObj(const std::filesystem::path& path) {
 }
 
 absl::Status WriteObj(const std::filesystem::path& path, const Mesh& mesh) {
-  std::string text;
-  text.reserve(static_cast<size_t>(mesh.vertex_count()) * 40 + mesh.faces.indices.size() * 8);
-  absl::StrAppend(&text, "# fitbase mesh, topology ",
-                  mesh.topology_id.empty() ? "unnamed" : mesh.topology_id, ", meters\n");
-  for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
-    absl::StrAppendFormat(&text, "v %.9g %.9g %.9g\n", mesh.positions(v, 0),
-                          mesh.positions(v, 1), mesh.positions(v, 2));
-  }
-  size_t corner = 0;
-  for (int32_t size : mesh.faces.sizes) {
-    text += 'f';
-    for (int32_t i = 0; i < size; ++i) {
-      absl::StrAppend(&text, " ", mesh.faces.indices[corner++] + 1);
-    }
-    text += '\n';
-  }
-  return WriteFileAtomically(path, text);
+  return WriteGarmentObj(path, GarmentMesh{.mesh = mesh});
 }
 
 }  // namespace fitbase::core

@@ -14,8 +14,9 @@ namespace fitbase::core {
 // Errors: unreadable file, no vertices, non-finite coordinates.
 absl::StatusOr<Mesh> ReadObj(const std::filesystem::path& path);
 
-// Writes positions (9 significant digits, enough to round-trip float32) and faces, in order.
-// The file is written to a temporary name and renamed, so readers never see half a mesh.
+// Writes positions (9 significant digits, enough to round-trip float32) and faces, in order,
+// through WriteGarmentObj (the one OBJ writer): a mesh it would not read back is an error, and
+// the file is written to a temporary name and renamed, so readers never see half a mesh.
 absl::Status WriteObj(const std::filesystem::path& path, const Mesh& mesh);
 
 }  // namespace fitbase::core
