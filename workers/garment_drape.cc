@@ -39,7 +39,8 @@ absl::StatusOr<const v1::GarmentSize*> FindSize(const v1::Garment& garment,
 }
 
 absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string_view size,
-                                        const core::Positions& target_body) {
+                                        const core::Positions& target_body,
+                                        double areal_density) {
   PreparedGarment g;
   ASSIGN_OR_RETURN(const v1::GarmentSize* garment_size, FindSize(garment, size));
   ASSIGN_OR_RETURN(g.template_mesh, proto::GarmentTemplateFromProto(garment));
@@ -59,8 +60,7 @@ absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string
   g.mean_body = g.mean_full.topRows(core::kBodyVertexCount);
   g.body_triangles = core::Triangulate(core::BodyFacesOf(mean.faces));
   const core::Positions& rest = g.template_mesh.mesh.positions;
-  ClothSettings settings;
-  ASSIGN_OR_RETURN(g.model, BuildClothModel(rest, g.template_mesh.mesh.faces, settings.areal_density));
+  ASSIGN_OR_RETURN(g.model, BuildClothModel(rest, g.template_mesh.mesh.faces, areal_density));
   ASSIGN_OR_RETURN(g.regions, proto::RegionsFromProto(garment));
   if (garment_size->has_rest()) {
     ASSIGN_OR_RETURN(core::Mesh size_mesh, proto::MeshFromProto(garment_size->rest()));
@@ -118,7 +118,8 @@ absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string
                                         const core::Positions& target_body,
                                         const ClothSettings& settings,
                                         const DrapeSchedule& schedule) {
-  ASSIGN_OR_RETURN(PreparedGarment g, Prepare(garment, size, target_body));
+  ASSIGN_OR_RETURN(PreparedGarment g,
+                   Prepare(garment, size, target_body, settings.areal_density));
   DrapeInput input{.model = &g.model,
                    .start = g.template_mesh.mesh.positions,
                    .edge_rest = g.edge_rest,
@@ -142,7 +143,8 @@ absl::StatusOr<GarmentFit> GeometricFit(const v1::Garment& garment, absl::string
         "garment ", garment.name(), " was imported without a .mhclo binding: no geometric fit"));
   }
   const auto start = std::chrono::steady_clock::now();
-  ASSIGN_OR_RETURN(PreparedGarment g, Prepare(garment, size, target_body));
+  ASSIGN_OR_RETURN(PreparedGarment g,
+                   Prepare(garment, size, target_body, ClothSettings{}.areal_density));
   ASSIGN_OR_RETURN(core::MhcloBinding binding,
                    proto::MhcloBindingFromProto(garment.binding(), g.template_mesh.mesh.vertex_count(),
                                                 core::kFullVertexCount));
