@@ -1,0 +1,87 @@
+#include "proto/clothing_basis_codec.h"
+
+#include "absl/strings/str_cat.h"
+#include "core/status_macros.h"
+
+namespace fitbase::proto {
+
+void ClothingModelToProto(const core::ClothingModel& model, v1::ClothingBasis* message) {
+  message->set_method(core::ClothingMethodName(model.method));
+  message->set_vertex_count(static_cast<uint32_t>(model.vertex_count()));
+  message->set_component_count(static_cast<uint32_t>(model.component_count));
+  message->mutable_mean()->Assign(model.mean.begin(), model.mean.end());
+  const auto terms = model.terms.reshaped();
+  message->mutable_terms()->Assign(terms.begin(), terms.end());
+  message->mutable_term_component()->Assign(model.term_component.begin(),
+                                            model.term_component.end());
+  message->mutable_term_power()->Assign(model.term_power.begin(), model.term_power.end());
+}
+
+void BodyCorrespondenceToProto(const core::BodyCorrespondence& correspondence,
+                               v1::BodyCorrespondence* message) {
+  message->set_offset(correspondence.offset);
+  message->mutable_body_vertices()->Assign(correspondence.body_vertices.begin(),
+                                           correspondence.body_vertices.end());
+  message->mutable_body_mean()->Assign(correspondence.body_mean.begin(),
+                                       correspondence.body_mean.end());
+  const auto components = correspondence.body_components.reshaped();
+  message->mutable_body_components()->Assign(components.begin(), components.end());
+  const auto corners = correspondence.corners.reshaped<Eigen::RowMajor>();
+  message->mutable_corners()->Assign(corners.begin(), corners.end());
+  const auto barycentric = correspondence.barycentric.reshaped<Eigen::RowMajor>();
+  message->mutable_barycentric()->Assign(barycentric.begin(), barycentric.end());
+}
+
+absl::StatusOr<core::ClothingModel> ClothingModelFromProto(const v1::ClothingBasis& message) {
+  ASSIGN_OR_RETURN(core::ClothingMethod method, core::ParseClothingMethod(message.method()));
+  const int64_t d = 3 * static_cast<int64_t>(message.vertex_count());
+  const int64_t t = message.term_component_size();
+  if (message.mean_size() != d || message.terms_size() != d * t ||
+      message.term_power_size() != t) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "clothing basis ", message.id(), " is inconsistent: ", message.vertex_count(),
+        " vertices and ", t, " terms need ", d, " mean and ", d * t, " term values, found ",
+        message.mean_size(), " and ", message.terms_size()));
+  }
+  core::ClothingModel model;
+  model.method = method;
+  model.component_count = static_cast<int>(message.component_count());
+  model.mean = Eigen::Map<const Eigen::VectorXf>(message.mean().data(), d);
+  model.terms = Eigen::Map<const Eigen::MatrixXf>(message.terms().data(), d, t);
+  for (int64_t i = 0; i < t; ++i) {
+    model.term_component.push_back(static_cast<int32_t>(message.term_component(i)));
+    model.term_power.push_back(static_cast<int32_t>(message.term_power(i)));
+  }
+  RETURN_IF_ERROR(core::ValidateClothingModel(model));
+  return model;
+}
+
+absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
+    const v1::ClothingBasis& message) {
+  const v1::BodyCorrespondence& c = message.correspondence();
+  const int64_t v = message.vertex_count();
+  const int64_t u = c.body_vertices_size();
+  const int64_t n = message.component_count();
+  if (c.corners_size() != 3 * v || c.barycentric_size() != 3 * v || c.body_mean_size() != 3 * u ||
+      c.body_components_size() != 3 * u * n) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "clothing basis ", message.id(), " has an inconsistent body correspondence (", v,
+        " garment vertices, ", u, " body vertices, ", n, " components)"));
+  }
+  core::BodyCorrespondence result;
+  result.offset = c.offset();
+  result.body_vertices.assign(c.body_vertices().begin(), c.body_vertices().end());
+  result.body_mean = Eigen::Map<const Eigen::VectorXf>(c.body_mean().data(), 3 * u);
+  result.body_components = Eigen::Map<const Eigen::MatrixXf>(c.body_components().data(), 3 * u, n);
+  result.corners.resize(v, 3);
+  for (int64_t i = 0; i < 3 * v; ++i) {
+    result.corners(i / 3, i % 3) = static_cast<int32_t>(std::min<uint32_t>(c.corners(i), INT32_MAX));
+  }
+  result.barycentric =
+      Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+          c.barycentric().data(), v, 3);
+  RETURN_IF_ERROR(core::ValidateBodyCorrespondence(result, v, static_cast<int>(n)));
+  return result;
+}
+
+}  // namespace fitbase::proto

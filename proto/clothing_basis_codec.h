@@ -1,0 +1,26 @@
+#ifndef FITBASE_PROTO_CLOTHING_BASIS_CODEC_H_
+#define FITBASE_PROTO_CLOTHING_BASIS_CODEC_H_
+
+#include "absl/status/statusor.h"
+#include "core/body_correspondence.h"
+#include "core/clothing_model.h"
+#include "fitbase/v1/clothing_basis.pb.h"
+
+namespace fitbase::proto {
+
+// Writes the model's method, sizes, mean and terms into `message` (other fields untouched).
+void ClothingModelToProto(const core::ClothingModel& model, v1::ClothingBasis* message);
+
+void BodyCorrespondenceToProto(const core::BodyCorrespondence& correspondence,
+                               v1::BodyCorrespondence* message);
+
+// The model of a stored clothing basis, validated (sizes, term indices, finite values).
+absl::StatusOr<core::ClothingModel> ClothingModelFromProto(const v1::ClothingBasis& message);
+
+// Its collision clean-up data, validated against the basis's vertex and component counts.
+absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
+    const v1::ClothingBasis& message);
+
+}  // namespace fitbase::proto
+
+#endif  // FITBASE_PROTO_CLOTHING_BASIS_CODEC_H_
