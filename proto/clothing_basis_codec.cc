@@ -2,6 +2,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
+#include "proto/garment_codec.h"
 
 namespace fitbase::proto {
 
@@ -82,6 +83,25 @@ absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
           c.barycentric().data(), v, 3);
   RETURN_IF_ERROR(core::ValidateBodyCorrespondence(result, v, static_cast<int>(n)));
   return result;
+}
+
+absl::StatusOr<core::ClothingFitter> ClothingFitterFromProto(const v1::ClothingBasis& message) {
+  ASSIGN_OR_RETURN(core::ClothingModel model, ClothingModelFromProto(message));
+  ASSIGN_OR_RETURN(core::BodyCorrespondence correspondence, BodyCorrespondenceFromProto(message));
+  return core::ClothingFitter::Create(std::move(model), std::move(correspondence));
+}
+
+absl::StatusOr<core::GarmentMesh> GarmentMeshFromClothingBasis(const v1::ClothingBasis& message) {
+  if (message.faces().vertex_count() != message.vertex_count() ||
+      message.mean_size() != 3 * static_cast<int64_t>(message.vertex_count())) {
+    return absl::InvalidArgumentError(absl::StrCat("clothing basis ", message.id(), " has faces for ",
+                                                   message.faces().vertex_count(),
+                                                   " vertices; its model has ",
+                                                   message.vertex_count()));
+  }
+  v1::Mesh mesh = message.faces();
+  *mesh.mutable_positions() = message.mean();
+  return GarmentMeshFromProto(mesh, message.texcoords(), message.face_texcoord_indices());
 }
 
 }  // namespace fitbase::proto

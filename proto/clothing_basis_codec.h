@@ -3,6 +3,8 @@
 
 #include "absl/status/statusor.h"
 #include "core/body_correspondence.h"
+#include "core/garment_obj.h"
+#include "core/clothing_fitter.h"
 #include "core/clothing_model.h"
 #include "fitbase/v1/clothing_basis.pb.h"
 
@@ -20,6 +22,13 @@ absl::StatusOr<core::ClothingModel> ClothingModelFromProto(const v1::ClothingBas
 // Its collision clean-up data, validated against the basis's vertex and component counts.
 absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
     const v1::ClothingBasis& message);
+
+// The fitter of a stored clothing basis: its model and body correspondence, validated.
+absl::StatusOr<core::ClothingFitter> ClothingFitterFromProto(const v1::ClothingBasis& message);
+
+// The garment's mesh as the basis stores it (faces and texture coordinates), positioned at
+// the clothing mean; callers put a fit's positions in its place.
+absl::StatusOr<core::GarmentMesh> GarmentMeshFromClothingBasis(const v1::ClothingBasis& message);
 
 }  // namespace fitbase::proto
 

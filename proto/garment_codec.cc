@@ -68,28 +68,34 @@ absl::StatusOr<core::MhcloBinding> MhcloBindingFromProto(const v1::MhcloBinding&
   return b;
 }
 
-absl::StatusOr<core::GarmentMesh> GarmentTemplateFromProto(const v1::Garment& garment) {
+absl::StatusOr<core::GarmentMesh> GarmentMeshFromProto(
+    const v1::Mesh& mesh, const google::protobuf::RepeatedField<float>& texcoords,
+    const google::protobuf::RepeatedField<int32_t>& face_texcoord_indices) {
   core::GarmentMesh g;
-  ASSIGN_OR_RETURN(g.mesh, MeshFromProto(garment.template_mesh()));
-  const int64_t texcoords = garment.texcoords_size() / 2;
-  if (garment.texcoords_size() % 2 != 0) {
+  ASSIGN_OR_RETURN(g.mesh, MeshFromProto(mesh));
+  const int64_t texcoord_count = texcoords.size() / 2;
+  if (texcoords.size() % 2 != 0) {
     return absl::InvalidArgumentError("garment texture coordinates come in pairs");
   }
-  g.texcoords.resize(texcoords, 2);
-  for (int i = 0; i < garment.texcoords_size(); ++i) g.texcoords.data()[i] = garment.texcoords(i);
-  if (!garment.face_texcoord_indices().empty()) {
-    if (garment.face_texcoord_indices_size() != static_cast<int>(g.mesh.faces.indices.size())) {
+  g.texcoords.resize(texcoord_count, 2);
+  for (int i = 0; i < texcoords.size(); ++i) g.texcoords.data()[i] = texcoords[i];
+  if (!face_texcoord_indices.empty()) {
+    if (face_texcoord_indices.size() != static_cast<int>(g.mesh.faces.indices.size())) {
       return absl::InvalidArgumentError("garment has one texture index per face corner or none");
     }
-    for (int32_t t : garment.face_texcoord_indices()) {
-      if (t < -1 || t >= texcoords) {
+    for (int32_t t : face_texcoord_indices) {
+      if (t < -1 || t >= texcoord_count) {
         return absl::InvalidArgumentError(absl::StrCat("garment texture index ", t, " out of range"));
       }
     }
-    g.face_texcoord_indices.assign(garment.face_texcoord_indices().begin(),
-                                   garment.face_texcoord_indices().end());
+    g.face_texcoord_indices.assign(face_texcoord_indices.begin(), face_texcoord_indices.end());
   }
   return g;
+}
+
+absl::StatusOr<core::GarmentMesh> GarmentTemplateFromProto(const v1::Garment& garment) {
+  return GarmentMeshFromProto(garment.template_mesh(), garment.texcoords(),
+                              garment.face_texcoord_indices());
 }
 
 absl::StatusOr<core::Positions> LengthAxesFromProto(const v1::Garment& garment) {

@@ -18,6 +18,12 @@ absl::StatusOr<core::MhcloBinding> MhcloBindingFromProto(const v1::MhcloBinding&
                                                          int64_t vertex_count,
                                                          int64_t reference_vertex_count);
 
+// A garment mesh from the parts Garment and ClothingBasis store: the mesh, 2 texture
+// coordinates per vt, one vt index per face corner (or none), validated.
+absl::StatusOr<core::GarmentMesh> GarmentMeshFromProto(
+    const v1::Mesh& mesh, const google::protobuf::RepeatedField<float>& texcoords,
+    const google::protobuf::RepeatedField<int32_t>& face_texcoord_indices);
+
 // The template mesh with its texture coordinates, validated.
 absl::StatusOr<core::GarmentMesh> GarmentTemplateFromProto(const v1::Garment& garment);
 

@@ -13,6 +13,7 @@
 #include "proto/message_file.h"
 #include "services/avatar_basis_builder.h"
 #include "services/avatar_file.h"
+#include "services/avatar_projection.h"
 #include "services/cli_context.h"
 #include "services/population_folder.h"
 
@@ -31,35 +32,6 @@ struct BasisFlags {
   double sigma = 1.0;
   bool json = false;
 };
-
-struct LoadedBasis {
-  v1::AvatarBasis message;
-  core::PcaBasis pca;
-};
-
-absl::StatusOr<LoadedBasis> LoadBasis(const std::string& path) {
-  LoadedBasis basis;
-  RETURN_IF_ERROR(proto::ReadMessageFile(path, &basis.message));
-  ASSIGN_OR_RETURN(basis.pca, proto::PcaBasisFromProto(basis.message));
-  return basis;
-}
-
-Eigen::VectorXd Flatten(const core::Mesh& mesh) {
-  return Eigen::Map<const Eigen::VectorXd>(mesh.positions.data(), mesh.positions.size());
-}
-
-v1::AvatarWeights ProjectAvatar(const LoadedBasis& basis, const core::Mesh& avatar) {
-  const Eigen::VectorXd x = Flatten(avatar);
-  const Eigen::VectorXd weights = core::ProjectOntoBasis(basis.pca, x);
-  const core::ReconstructionError error =
-      core::MeasureReconstructionError(x, core::ReconstructFromWeights(basis.pca, weights));
-  v1::AvatarWeights result;
-  result.set_basis_id(basis.message.id());
-  result.mutable_weights()->Assign(weights.begin(), weights.end());
-  result.set_mean_error_mm(error.mean_mm);
-  result.set_max_error_mm(error.max_mm);
-  return result;
-}
 
 absl::Status RunBuild(const BasisFlags& flags, const CLI::App& command) {
   core::ComponentSelection selection;
@@ -96,7 +68,7 @@ absl::Status RunBuild(const BasisFlags& flags, const CLI::App& command) {
 }
 
 absl::Status RunInfo(const BasisFlags& flags) {
-  ASSIGN_OR_RETURN(LoadedBasis basis, LoadBasis(flags.basis));
+  ASSIGN_OR_RETURN(LoadedAvatarBasis basis, LoadAvatarBasis(flags.basis));
   const v1::AvatarBasis& m = basis.message;
   std::cout << "id          " << m.id() << "\n"
             << "topology    " << m.topology_id() << " (" << m.mean().vertex_count()
@@ -122,9 +94,9 @@ absl::Status RunInfo(const BasisFlags& flags) {
 }
 
 absl::Status RunProject(const BasisFlags& flags) {
-  ASSIGN_OR_RETURN(LoadedBasis basis, LoadBasis(flags.basis));
+  ASSIGN_OR_RETURN(LoadedAvatarBasis basis, LoadAvatarBasis(flags.basis));
   ASSIGN_OR_RETURN(core::Mesh avatar, ReadAvatarObj(flags.avatar));
-  const v1::AvatarWeights result = ProjectAvatar(basis, avatar);
+  ASSIGN_OR_RETURN(const v1::AvatarWeights result, ProjectAvatar(basis, avatar));
   if (flags.json) {
     std::cout << proto::ToJson(result) << "\n";
     return absl::OkStatus();
@@ -137,7 +109,7 @@ absl::Status RunProject(const BasisFlags& flags) {
 }
 
 absl::Status RunExample(const BasisFlags& flags) {
-  ASSIGN_OR_RETURN(LoadedBasis basis, LoadBasis(flags.basis));
+  ASSIGN_OR_RETURN(LoadedAvatarBasis basis, LoadAvatarBasis(flags.basis));
   const int n = static_cast<int>(basis.pca.components.cols());
   if (flags.component < 0 || flags.component >= n) {
     return absl::InvalidArgumentError(absl::StrCat("--component is ", flags.component,
@@ -154,7 +126,7 @@ absl::Status RunExample(const BasisFlags& flags) {
 }
 
 absl::Status RunEval(const BasisFlags& flags) {
-  ASSIGN_OR_RETURN(LoadedBasis basis, LoadBasis(flags.basis));
+  ASSIGN_OR_RETURN(LoadedAvatarBasis basis, LoadAvatarBasis(flags.basis));
   ASSIGN_OR_RETURN(Population population, ReadPopulationFolder(flags.population));
   double sum_mean = 0, worst_mean = 0, worst_max = 0;
   const Eigen::Index count = population.samples.cols();

@@ -7,6 +7,7 @@
 
 #include "CLI/CLI.hpp"
 #include "absl/status/status.h"
+#include "workers/drape.h"
 
 namespace fitbase::services {
 
@@ -21,11 +22,16 @@ struct CliContext {
 // executable, else ./data/makehuman.
 std::filesystem::path ResolveDataDir(const CliContext& context);
 
+// --homotopy-steps and --relax-steps, for every command that drapes.
+void AddDrapeScheduleOptions(CLI::App* command, workers::DrapeSchedule& schedule);
+
 void AddAvatarCommand(CLI::App& app, CliContext& context);
 void AddPopulationCommand(CLI::App& app, CliContext& context);
 void AddBasisCommands(CLI::App& app, CliContext& context);
 void AddGarmentCommands(CLI::App& app, CliContext& context);
 void AddDrapeCommand(CLI::App& app, CliContext& context);
+void AddClothingCommands(CLI::App& app, CliContext& context);
+void AddEvalCommand(CLI::App& app, CliContext& context);
 
 }  // namespace fitbase::services
 

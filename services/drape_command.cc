@@ -57,6 +57,17 @@ absl::Status RunDrape(const DrapeFlags& flags) {
 
 }  // namespace
 
+void AddDrapeScheduleOptions(CLI::App* command, workers::DrapeSchedule& schedule) {
+  command
+      ->add_option("--homotopy-steps", schedule.homotopy_steps,
+                   "Drape steps moving the body from the mean avatar (default: 30)")
+      ->check(CLI::Range(0, 10000));
+  command
+      ->add_option("--relax-steps", schedule.relax_steps,
+                   "Drape steps relaxing on the target body (default: 60)")
+      ->check(CLI::Range(0, 10000));
+}
+
 void AddDrapeCommand(CLI::App& app, CliContext& context) {
   auto flags = std::make_shared<DrapeFlags>();
   CLI::App* drape = app.add_subcommand("drape", "Drape a garment size onto an avatar (physics)");
@@ -66,12 +77,7 @@ void AddDrapeCommand(CLI::App& app, CliContext& context) {
   drape->add_option("--out", flags->out, "Draped garment OBJ (template's vertex order)")
       ->required();
   drape->add_option("--report", flags->report, "Fit metrics as JSON");
-  drape->add_option("--homotopy-steps", flags->schedule.homotopy_steps,
-                    "Steps moving the body from the mean avatar to this one (default: 30)")
-      ->check(CLI::Range(0, 10000));
-  drape->add_option("--relax-steps", flags->schedule.relax_steps,
-                    "Steps relaxing on this body (default: 60)")
-      ->check(CLI::Range(0, 10000));
+  AddDrapeScheduleOptions(drape, flags->schedule);
   drape->add_option("--method", flags->method,
                     "drape (physics, default) or geometric (the .mhclo binding baseline)");
   drape->callback([&context, flags] { context.action = [flags] { return RunDrape(*flags); }; });

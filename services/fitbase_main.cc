@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
   fitbase::services::AddBasisCommands(app, context);
   fitbase::services::AddGarmentCommands(app, context);
   fitbase::services::AddDrapeCommand(app, context);
+  fitbase::services::AddClothingCommands(app, context);
+  fitbase::services::AddEvalCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

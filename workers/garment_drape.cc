@@ -27,22 +27,11 @@ struct PreparedGarment {
   Eigen::VectorXd bend_rest;
 };
 
-absl::StatusOr<const v1::GarmentSize*> FindSize(const v1::Garment& garment,
-                                                absl::string_view size) {
-  std::vector<std::string> names;
-  for (const v1::GarmentSize& s : garment.sizes()) {
-    if (s.name() == size) return &s;
-    names.push_back(s.name());
-  }
-  return absl::NotFoundError(absl::StrCat("garment ", garment.name(), " has no size '", size,
-                                          "'; its sizes are ", absl::StrJoin(names, ", ")));
-}
-
 absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string_view size,
                                         const core::Positions& target_body,
                                         double areal_density) {
   PreparedGarment g;
-  ASSIGN_OR_RETURN(const v1::GarmentSize* garment_size, FindSize(garment, size));
+  ASSIGN_OR_RETURN(const v1::GarmentSize* garment_size, FindGarmentSize(garment, size));
   ASSIGN_OR_RETURN(g.template_mesh, proto::GarmentTemplateFromProto(garment));
   ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(garment.mean_avatar()));
   if (mean.vertex_count() != core::kFullVertexCount) {
@@ -113,6 +102,17 @@ v1::DrapeReport ReportOf(const v1::Garment& garment, absl::string_view size,
 }
 
 }  // namespace
+
+absl::StatusOr<const v1::GarmentSize*> FindGarmentSize(const v1::Garment& garment,
+                                                absl::string_view size) {
+  std::vector<std::string> names;
+  for (const v1::GarmentSize& s : garment.sizes()) {
+    if (s.name() == size) return &s;
+    names.push_back(s.name());
+  }
+  return absl::NotFoundError(absl::StrCat("garment ", garment.name(), " has no size '", size,
+                                          "'; its sizes are ", absl::StrJoin(names, ", ")));
+}
 
 absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string_view size,
                                         const core::Positions& target_body,

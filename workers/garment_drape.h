@@ -15,6 +15,10 @@ struct GarmentFit {
   v1::DrapeReport report;
 };
 
+// The size named `size`, or NOT_FOUND listing the garment's sizes.
+absl::StatusOr<const v1::GarmentSize*> FindGarmentSize(const v1::Garment& garment,
+                                                       absl::string_view size);
+
 // The physics drape of `garment` in `size` on `target_body` (the 13,380 x 3 body avatar,
 // m). Errors: unknown size (the message lists the garment's sizes), a body of another vertex
 // count, non-finite positions, an inconsistent garment message.

@@ -1,0 +1,206 @@
+// The online fit's speed (Google Benchmark), each figure as a share of a machine limit
+// measured in the same run:
+//   - BM_StreamRead / BM_Sgemm measure the limits: reading a buffer the size of the largest
+//     basis once, and a 1024^3 single-precision matrix product (one core);
+//   - BM_Fit{TermMajor,VertexMajor}/N/V: one customer, N components, V garment vertices, with
+//     the basis stored term-major (each component contiguous) or vertex-major; counter
+//     `of_bandwidth` is the fit's byte rate over the streaming-read rate;
+//   - BM_FitBatch64/N/V: 64 customers as one matrix product; `of_sgemm` is its FLOP rate
+//     over the SGEMM rate;
+//   - BM_FitCleanup/N/V: a fit plus the collision clean-up (ClothingFitter);
+//   - BM_ProjectAvatar/N: a 13,380-vertex avatar projected onto N components.
+// Usage: fitbase_fit_bench [--benchmark_filter=...]
+#include <random>
+
+#include "benchmark/benchmark.h"
+#include "core/clothing_fitter.h"
+#include "core/clothing_model.h"
+#include "core/pca_basis.h"
+
+namespace fitbase {
+namespace {
+
+constexpr int kBodyVertices = 13380;
+constexpr int kBatch = 64;
+constexpr int kSgemmSize = 1024;
+
+double g_stream_bytes_per_second = 0;
+double g_sgemm_flops_per_second = 0;
+
+// Synthetic linear model (T = N terms): the fit's cost depends on sizes only.
+core::ClothingModel MakeModel(int components, int vertices) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> uniform(-0.01f, 0.01f);
+  core::ClothingModel model;
+  model.component_count = components;
+  model.mean = Eigen::VectorXf::NullaryExpr(3 * vertices, [&] { return uniform(rng); });
+  model.terms = Eigen::MatrixXf::NullaryExpr(3 * vertices, components, [&] { return uniform(rng); });
+  for (int k = 0; k < components; ++k) {
+    model.term_component.push_back(k);
+    model.term_power.push_back(1);
+  }
+  return model;
+}
+
+Eigen::VectorXf Weights(int components) {
+  return Eigen::VectorXf::LinSpaced(components, -0.02f, 0.03f);
+}
+
+double FitBytes(int components, int vertices) {
+  return 4.0 * 3 * vertices * (components + 2);  // Terms and mean read, result written.
+}
+
+void BM_StreamRead(benchmark::State& state) {
+  const Eigen::VectorXf buffer = Eigen::VectorXf::Ones(static_cast<Eigen::Index>(FitBytes(60, 20000) / 4));
+  for (auto _ : state) {
+    float sum = buffer.sum();
+    benchmark::DoNotOptimize(sum);
+  }
+  const double bytes = 4.0 * static_cast<double>(buffer.size());
+  state.counters["bytes_per_second"] =
+      benchmark::Counter(bytes * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.SetBytesProcessed(static_cast<int64_t>(bytes) * state.iterations());
+}
+
+void BM_Sgemm(benchmark::State& state) {
+  const Eigen::MatrixXf a = Eigen::MatrixXf::Random(kSgemmSize, kSgemmSize);
+  const Eigen::MatrixXf b = Eigen::MatrixXf::Random(kSgemmSize, kSgemmSize);
+  Eigen::MatrixXf c(kSgemmSize, kSgemmSize);
+  for (auto _ : state) {
+    c.noalias() = a * b;
+    benchmark::DoNotOptimize(c.data());
+  }
+  state.counters["flops"] = benchmark::Counter(
+      2.0 * kSgemmSize * kSgemmSize * kSgemmSize * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate);
+}
+
+// Google Benchmark reports rates after a run; the limits are taken from the first runs'
+// counters by a reporter hook below, so each fit's share is computed against this machine.
+void SetShareOfBandwidth(benchmark::State& state, double bytes) {
+  if (g_stream_bytes_per_second == 0) return;  // BM_StreamRead filtered out.
+  state.counters["of_bandwidth"] = benchmark::Counter(
+      bytes * static_cast<double>(state.iterations()) / g_stream_bytes_per_second,
+      benchmark::Counter::kIsRate);
+}
+
+void BM_FitTermMajor(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
+  const core::ClothingModel model = MakeModel(n, v);
+  const Eigen::VectorXf w = Weights(n);
+  Eigen::VectorXf features, out;
+  for (auto _ : state) {
+    core::FitClothing(model, w, features, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  SetShareOfBandwidth(state, FitBytes(n, v));
+}
+
+void BM_FitVertexMajor(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
+  const core::ClothingModel model = MakeModel(n, v);
+  const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> terms = model.terms;
+  const Eigen::VectorXf w = Weights(n);
+  Eigen::VectorXf out;
+  for (auto _ : state) {
+    out = model.mean;
+    out.noalias() += terms * w;
+    benchmark::DoNotOptimize(out.data());
+  }
+  SetShareOfBandwidth(state, FitBytes(n, v));
+}
+
+void BM_FitBatch64(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
+  const core::ClothingModel model = MakeModel(n, v);
+  const Eigen::MatrixXf weights = Weights(n).replicate(1, kBatch);
+  Eigen::MatrixXf out;
+  for (auto _ : state) {
+    core::FitClothingBatch(model, weights, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  const double flops = 2.0 * 3 * v * n * kBatch;
+  if (g_sgemm_flops_per_second > 0) state.counters["of_sgemm"] = benchmark::Counter(
+      flops * static_cast<double>(state.iterations()) / g_sgemm_flops_per_second,
+      benchmark::Counter::kIsRate);
+  state.counters["fits_per_second"] =
+      benchmark::Counter(kBatch * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+void BM_FitCleanup(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
+  std::mt19937 rng(2);
+  core::BodyCorrespondence c;
+  c.offset = 0.0025;
+  const int u = std::min(v, kBodyVertices) / 2;
+  for (int i = 0; i < u; ++i) c.body_vertices.push_back(2 * i);
+  c.body_mean = Eigen::VectorXf::Random(3 * u);
+  c.body_components = Eigen::MatrixXf::Random(3 * u, n);
+  c.corners.resize(v, 3);
+  c.barycentric.resize(v, 3);
+  for (int i = 0; i < v; ++i) {
+    c.corners.row(i) << static_cast<int32_t>(rng() % u), static_cast<int32_t>(rng() % u),
+        static_cast<int32_t>(rng() % u);
+    c.barycentric.row(i) << 0.2f, 0.3f, 0.5f;
+  }
+  const core::ClothingFitter fitter = *core::ClothingFitter::Create(MakeModel(n, v), c);
+  const Eigen::VectorXf w = Weights(n);
+  core::FitScratch scratch;
+  Eigen::VectorXf out;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(fitter.Fit(w, true, scratch, out));
+  }
+}
+
+void BM_ProjectAvatar(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  core::PcaBasis basis;
+  basis.mean = Eigen::VectorXd::Zero(3 * kBodyVertices);
+  basis.components = Eigen::MatrixXd::Random(3 * kBodyVertices, n);
+  const Eigen::VectorXd avatar = Eigen::VectorXd::Random(3 * kBodyVertices);
+  for (auto _ : state) {
+    Eigen::VectorXd w = core::ProjectOntoBasis(basis, avatar);
+    benchmark::DoNotOptimize(w.data());
+  }
+  SetShareOfBandwidth(state, 8.0 * 3 * kBodyVertices * (n + 2));
+}
+
+void FitSizes(benchmark::internal::Benchmark* b) {
+  for (int n : {10, 30, 60}) {
+    for (int v : {2000, 8000, 20000}) b->Args({n, v});
+  }
+}
+
+// Captures the limits as soon as their benchmarks finish, before any fit runs.
+class LimitCapture : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& run : runs) {
+      if (run.run_name.function_name == "BM_StreamRead") {
+        g_stream_bytes_per_second = run.counters.at("bytes_per_second");
+      } else if (run.run_name.function_name == "BM_Sgemm") {
+        g_sgemm_flops_per_second = run.counters.at("flops");
+      }
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+};
+
+BENCHMARK(BM_StreamRead);
+BENCHMARK(BM_Sgemm)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FitTermMajor)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FitVertexMajor)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FitBatch64)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FitCleanup)->Args({30, 8000})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ProjectAvatar)->Arg(10)->Arg(30)->Arg(60)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace fitbase
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  fitbase::LimitCapture reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  benchmark::Shutdown();
+  return 0;
+}
