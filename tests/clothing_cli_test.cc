@@ -1,0 +1,201 @@
+// End-to-end tests of `fitbase clothing build`, `fitbase fit` and `fitbase eval` on a shared
+// garment, with a short drape schedule: the figures come from `fitbase eval` with the full one.
+#include <string>
+
+#include "core/file_util.h"
+#include "core/garment_obj.h"
+#include "fitbase/v1/accuracy_report.pb.h"
+#include "fitbase/v1/avatar.pb.h"
+#include "fitbase/v1/clothing_basis.pb.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "proto/json_codec.h"
+#include "proto/message_file.h"
+#include "tests/cli_runner.h"
+
+namespace fitbase {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr char kGarment[] = "female_sportsuit01";
+
+class ClothingCliTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(Scratch("clothing"));
+    ASSERT_EQ(RunFitbase({"population", "--preset", "women", "--count", "8", "--seed", "5",
+                          "--out", Path("pop")})
+                  .exit_code,
+              0);
+    ASSERT_EQ(RunFitbase({"basis", "build", "--population", Path("pop"), "--components", "2",
+                          "--out", Path("b.fbb")})
+                  .exit_code,
+              0);
+    const fs::path mhclo =
+        core::TestDataDir() / "clothes" / kGarment / (std::string(kGarment) + ".mhclo");
+    const Result import = RunFitbase({"garment", "import", "--mhclo", mhclo.string(), "--basis",
+                                      Path("b.fbb"), "--sizes", "M,XL", "--out", Path("g.fbg")});
+    ASSERT_EQ(import.exit_code, 0) << import.err;
+    const Result build = Build("quadratic", "q.fbc");
+    ASSERT_EQ(build.exit_code, 0) << build.err;
+  }
+  static void TearDownTestSuite() { delete dir_; }
+
+  static std::string Path(const std::string& name) { return (*dir_ / name).string(); }
+
+  static Result Build(const std::string& method, const std::string& out,
+                      const std::string& cache = "cache") {
+    return RunFitbase({"clothing", "build", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
+                       "--size", "M", "--method", method, "--homotopy-steps", "2",
+                       "--relax-steps", "2", "--cache", Path(cache), "--out", Path(out)});
+  }
+
+  static v1::ClothingBasis Clothing(const std::string& name) {
+    v1::ClothingBasis basis;
+    EXPECT_TRUE(proto::ReadMessageFile(Path(name), &basis).ok());
+    return basis;
+  }
+
+  // Writes the weights of example `e` of the clothing basis as `fitbase basis project --json`
+  // would, and fits them without clean-up.
+  static Result FitExample(const v1::ClothingBasis& clothing, int e, const std::string& fbc,
+                           const std::string& out) {
+    v1::AvatarWeights weights;
+    weights.set_basis_id(clothing.avatar_basis_id());
+    *weights.mutable_weights() = clothing.provenance().examples(e).weights();
+    EXPECT_TRUE(core::WriteFileAtomically(Path("w.json"), proto::ToJson(weights)).ok());
+    return RunFitbase({"fit", "--clothing", Path(fbc), "--weights", Path("w.json"),
+                       "--no-cleanup", "--out", Path(out)});
+  }
+
+  static double MaxDifferenceToDrape(const std::string& obj, const std::string& drape_key) {
+    v1::DrapeResult drape;
+    EXPECT_TRUE(proto::ReadMessageFile(*dir_ / "cache" / (drape_key + ".fbd"), &drape).ok());
+    auto fitted = core::ReadGarmentObj(Path(obj));
+    EXPECT_TRUE(fitted.ok());
+    double worst = 0;
+    for (int i = 0; i < drape.positions_size(); ++i) {
+      worst = std::max(worst, std::abs(fitted->mesh.positions.data()[i] - drape.positions(i)));
+    }
+    return worst;
+  }
+
+  static fs::path* dir_;
+};
+
+fs::path* ClothingCliTest::dir_ = nullptr;
+
+TEST_F(ClothingCliTest, QuadraticReproducesEveryExampleDrape) {
+  const v1::ClothingBasis clothing = Clothing("q.fbc");
+  ASSERT_EQ(clothing.provenance().examples_size(), 5);  // 2N + 1 for N = 2.
+  EXPECT_EQ(clothing.method(), "quadratic");
+  for (int e = 0; e < clothing.provenance().examples_size(); ++e) {
+    const Result fit = FitExample(clothing, e, "q.fbc", "fit.obj");
+    ASSERT_EQ(fit.exit_code, 0) << fit.err;
+    EXPECT_LT(MaxDifferenceToDrape("fit.obj", clothing.provenance().examples(e).drape_key()), 2e-6)
+        << clothing.provenance().examples(e).label();
+  }
+}
+
+TEST_F(ClothingCliTest, LinearReproducesTheMeanDrapeAndKeepsTopology) {
+  ASSERT_EQ(Build("linear", "l.fbc").exit_code, 0);
+  const v1::ClothingBasis clothing = Clothing("l.fbc");
+  const Result fit = FitExample(clothing, 0, "l.fbc", "mean.obj");
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  EXPECT_LT(MaxDifferenceToDrape("mean.obj", clothing.provenance().examples(0).drape_key()), 1e-6);
+  auto source = core::ReadGarmentObj(core::TestDataDir() / "clothes" / kGarment /
+                                     (std::string(kGarment) + ".obj"));
+  auto fitted = core::ReadGarmentObj(Path("mean.obj"));
+  ASSERT_TRUE(source.ok() && fitted.ok());
+  EXPECT_EQ(fitted->mesh.faces, source->mesh.faces);
+  EXPECT_EQ(fitted->face_texcoord_indices, source->face_texcoord_indices);
+}
+
+TEST_F(ClothingCliTest, RebuildGivesIdenticalBytesWithOrWithoutTheCache) {
+  ASSERT_EQ(Build("quadratic", "again.fbc").exit_code, 0);
+  ASSERT_EQ(Build("quadratic", "fresh.fbc", "fresh-cache").exit_code, 0);
+  const std::string original = *core::ReadFileToString(Path("q.fbc"));
+  EXPECT_EQ(*core::ReadFileToString(Path("again.fbc")), original);
+  EXPECT_EQ(*core::ReadFileToString(Path("fresh.fbc")), original);
+}
+
+TEST_F(ClothingCliTest, FitsAnAvatarThroughItsProjection) {
+  const Result fit = RunFitbase({"fit", "--clothing", Path("q.fbc"), "--avatar",
+                                 Path("pop/avatar-00002.obj"), "--basis", Path("b.fbb"),
+                                 "--out", Path("customer.obj")});
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  EXPECT_THAT(fit.out, HasSubstr("clean-up on"));
+  EXPECT_TRUE(core::ReadGarmentObj(Path("customer.obj")).ok());
+}
+
+TEST_F(ClothingCliTest, BadInputsAreNamed) {
+  v1::AvatarWeights weights;
+  weights.set_basis_id("another-basis");
+  weights.add_weights(0.01);
+  weights.add_weights(0.0);
+  ASSERT_TRUE(core::WriteFileAtomically(Path("other.json"), proto::ToJson(weights)).ok());
+  Result r = RunFitbase({"fit", "--clothing", Path("q.fbc"), "--weights", Path("other.json"),
+                         "--out", Path("x.obj")});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("FAILED_PRECONDITION"));
+  EXPECT_THAT(r.err, HasSubstr("'another-basis'"));
+
+  weights.set_basis_id(Clothing("q.fbc").avatar_basis_id());
+  weights.add_weights(0.0);
+  ASSERT_TRUE(core::WriteFileAtomically(Path("three.json"), proto::ToJson(weights)).ok());
+  r = RunFitbase({"fit", "--clothing", Path("q.fbc"), "--weights", Path("three.json"), "--out",
+                  Path("x.obj")});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("got 3 avatar weights; the clothing basis takes 2"));
+
+  ASSERT_TRUE(core::WriteFileAtomically(Path("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").ok());
+  r = RunFitbase({"fit", "--clothing", Path("q.fbc"), "--avatar", Path("bad.obj"), "--basis",
+                  Path("b.fbb"), "--out", Path("x.obj")});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("bad.obj"));
+
+  r = RunFitbase({"fit", "--clothing", Path("q.fbc"), "--avatar", Path("pop/avatar-00002.obj"),
+                  "--out", Path("x.obj")});
+  EXPECT_THAT(r.err, HasSubstr("--avatar needs --basis"));
+
+  r = RunFitbase({"clothing", "build", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
+                  "--size", "XS", "--out", Path("x.fbc")});
+  EXPECT_THAT(r.err, HasSubstr("no size 'XS'"));
+  r = RunFitbase({"clothing", "build", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
+                  "--method", "cubic", "--out", Path("x.fbc")});
+  EXPECT_THAT(r.err, HasSubstr("unknown clothing method 'cubic'"));
+  EXPECT_FALSE(fs::exists(Path("x.fbc")));
+  EXPECT_FALSE(fs::exists(Path("x.obj")));
+}
+
+TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
+  const Result r = RunFitbase({"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
+                               "--holdout", "2", "--seed", "9", "--homotopy-steps", "2",
+                               "--relax-steps", "2", "--out", Path("eval")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  v1::AccuracyReport report;
+  ASSERT_TRUE(proto::ParseJson(*core::ReadFileToString(Path("eval/report.json")), &report).ok());
+  ASSERT_EQ(report.garments_size(), 1);
+  // paper, linear and quadratic each without and with clean-up, then nearest and geometric.
+  ASSERT_EQ(report.overall_size(), 8);
+  EXPECT_EQ(report.overall(6).method(), "nearest");
+  EXPECT_EQ(report.overall(7).method(), "geometric");
+  for (const v1::MethodAccuracy& row : report.overall()) {
+    EXPECT_GT(row.error_mean_mm(), 0) << row.method();
+    EXPECT_GE(row.error_p95_mm(), row.error_mean_mm() * 0.5) << row.method();
+    EXPECT_GE(row.error_max_mm(), row.error_p95_mm()) << row.method();
+    EXPECT_GT(row.fit_microseconds(), 0) << row.method();
+  }
+  // The clean-up never adds penetration of the real body.
+  EXPECT_LE(report.overall(3).penetration_below_0mm(), report.overall(2).penetration_below_0mm());
+  EXPECT_THAT(*core::ReadFileToString(Path("eval/report.md")), HasSubstr("| quadratic | yes |"));
+  EXPECT_TRUE(fs::exists(Path("eval/female_sportsuit01-M-linear.fbc")));
+
+  const Result bad = RunFitbase({"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
+                                 "--methods", "linear,magic", "--out", Path("eval2")});
+  EXPECT_THAT(bad.err, HasSubstr("unknown clothing method 'magic'"));
+}
+
+}  // namespace
+}  // namespace fitbase
