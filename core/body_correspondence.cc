@@ -11,30 +11,78 @@
 
 namespace fitbase::core {
 
-absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(const Positions& garment,
-                                                           const PcaBasis& avatar,
-                                                           const Triangles& body_triangles,
-                                                           double offset) {
+namespace {
+
+// A triangle a garment vertex was closest to, how often, and where first.
+struct AnchorCount {
+  int32_t triangle;
+  int count;
+  int first_example;
+  Eigen::Vector3f barycentric;
+};
+
+}  // namespace
+
+absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(
+    const std::vector<CorrespondenceExample>& examples, const PcaBasis& avatar,
+    const Triangles& body_triangles, double offset, int anchors_per_vertex) {
   if (!std::isfinite(offset) || offset <= 0) {
     return absl::InvalidArgumentError(absl::StrCat("clean-up offset must be > 0 m, got ", offset));
   }
-  if (garment.rows() == 0 || !garment.allFinite()) {
-    return absl::InvalidArgumentError("mean drape is empty or not finite");
+  if (anchors_per_vertex < 1) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("anchors per vertex must be >= 1, got ", anchors_per_vertex));
   }
-  const Positions body = Eigen::Map<const Positions>(avatar.mean.data(), avatar.mean.size() / 3, 3);
-  ASSIGN_OR_RETURN(TriangleBvh bvh, TriangleBvh::Build(body, body_triangles));
+  if (examples.empty()) return absl::InvalidArgumentError("no example drapes to anchor");
+  const Eigen::Index vertex_count = examples[0].garment->rows();
+  for (const CorrespondenceExample& e : examples) {
+    if (e.garment->rows() != vertex_count || vertex_count == 0 || !e.garment->allFinite()) {
+      return absl::InvalidArgumentError("example drapes are empty, not finite or of different sizes");
+    }
+    if (e.weights.size() > avatar.components.cols() || !e.weights.allFinite()) {
+      return absl::InvalidArgumentError("example weights do not fit the avatar basis");
+    }
+  }
+  const Positions mean = Eigen::Map<const Positions>(avatar.mean.data(), avatar.mean.size() / 3, 3);
+  ASSIGN_OR_RETURN(TriangleBvh bvh, TriangleBvh::Build(mean, body_triangles));
 
-  std::vector<Eigen::Vector3i> triangles(garment.rows());
+  std::vector<std::vector<AnchorCount>> seen(vertex_count);
+  for (size_t e = 0; e < examples.size(); ++e) {
+    const Eigen::VectorXd body = ReconstructFromWeights(avatar, examples[e].weights);
+    bvh.Refit(Eigen::Map<const Positions>(body.data(), body.size() / 3, 3));
+    for (Eigen::Index v = 0; v < vertex_count; ++v) {
+      const SurfacePoint closest = bvh.Closest(examples[e].garment->row(v).transpose(),
+                                               std::numeric_limits<double>::infinity());
+      if (!closest.found) return absl::InternalError("no closest body point for a garment vertex");
+      std::vector<AnchorCount>& anchors = seen[v];
+      auto it = std::find_if(anchors.begin(), anchors.end(), [&](const AnchorCount& a) {
+        return a.triangle == closest.triangle;
+      });
+      if (it != anchors.end()) {
+        ++it->count;
+      } else {
+        anchors.push_back({closest.triangle, 1, static_cast<int>(e), closest.barycentric.cast<float>()});
+      }
+    }
+  }
+
   BodyCorrespondence result;
   result.offset = offset;
-  result.barycentric.resize(garment.rows(), 3);
-  for (Eigen::Index v = 0; v < garment.rows(); ++v) {
-    const SurfacePoint closest =
-        bvh.Closest(garment.row(v).transpose(), std::numeric_limits<double>::infinity());
-    if (!closest.found) return absl::InternalError("no closest body point for a garment vertex");
-    triangles[v] = body_triangles.row(closest.triangle).transpose();
-    result.barycentric.row(v) = closest.barycentric.cast<float>().transpose();
-    for (int c = 0; c < 3; ++c) result.body_vertices.push_back(triangles[v](c));
+  result.anchors_per_vertex = anchors_per_vertex;
+  const Eigen::Index rows = vertex_count * anchors_per_vertex;
+  std::vector<int32_t> triangles(rows);
+  result.barycentric.resize(rows, 3);
+  for (Eigen::Index v = 0; v < vertex_count; ++v) {
+    std::vector<AnchorCount>& anchors = seen[v];
+    std::stable_sort(anchors.begin(), anchors.end(), [](const AnchorCount& a, const AnchorCount& b) {
+      return a.count > b.count;
+    });
+    for (int k = 0; k < anchors_per_vertex; ++k) {
+      const AnchorCount& a = anchors[k < static_cast<int>(anchors.size()) ? k : 0];
+      triangles[v * anchors_per_vertex + k] = a.triangle;
+      result.barycentric.row(v * anchors_per_vertex + k) = a.barycentric.transpose();
+      for (int c = 0; c < 3; ++c) result.body_vertices.push_back(body_triangles(a.triangle, c));
+    }
   }
   std::sort(result.body_vertices.begin(), result.body_vertices.end());
   result.body_vertices.erase(std::unique(result.body_vertices.begin(), result.body_vertices.end()),
@@ -48,12 +96,12 @@ absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(const Positions& garm
     result.body_mean.segment<3>(3 * i) = avatar.mean.segment<3>(row).cast<float>();
     result.body_components.middleRows<3>(3 * i) = avatar.components.middleRows<3>(row).cast<float>();
   }
-  result.corners.resize(garment.rows(), 3);
-  for (Eigen::Index v = 0; v < garment.rows(); ++v) {
+  result.corners.resize(rows, 3);
+  for (Eigen::Index r = 0; r < rows; ++r) {
     for (int c = 0; c < 3; ++c) {
-      result.corners(v, c) = static_cast<int32_t>(
+      result.corners(r, c) = static_cast<int32_t>(
           std::lower_bound(result.body_vertices.begin(), result.body_vertices.end(),
-                           triangles[v](c)) -
+                           body_triangles(triangles[r], c)) -
           result.body_vertices.begin());
     }
   }
@@ -63,11 +111,12 @@ absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(const Positions& garm
 absl::Status ValidateBodyCorrespondence(const BodyCorrespondence& correspondence,
                                         int64_t garment_vertex_count, int component_count) {
   const Eigen::Index u = static_cast<Eigen::Index>(correspondence.body_vertices.size());
-  if (correspondence.corners.rows() != garment_vertex_count ||
-      correspondence.barycentric.rows() != garment_vertex_count) {
+  const int64_t k = correspondence.anchors_per_vertex;
+  if (k < 1 || correspondence.corners.rows() != garment_vertex_count * k ||
+      correspondence.barycentric.rows() != garment_vertex_count * k) {
     return absl::InvalidArgumentError(
-        absl::StrCat("body correspondence covers ", correspondence.corners.rows(),
-                     " vertices; the garment has ", garment_vertex_count));
+        absl::StrCat("body correspondence has ", correspondence.corners.rows(), " anchors, ", k,
+                     " per vertex; the garment has ", garment_vertex_count, " vertices"));
   }
   if (correspondence.body_mean.size() != 3 * u || correspondence.body_components.rows() != 3 * u ||
       correspondence.body_components.cols() != component_count) {
@@ -92,19 +141,30 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
   body = correspondence.body_mean;
   body.noalias() += correspondence.body_components * weights;
   const float offset = static_cast<float>(correspondence.offset);
+  const int k = correspondence.anchors_per_vertex;
   int64_t moved = 0;
-  for (Eigen::Index v = 0; v < correspondence.corners.rows(); ++v) {
-    const Eigen::Vector3f a = body.segment<3>(3 * correspondence.corners(v, 0));
-    const Eigen::Vector3f b = body.segment<3>(3 * correspondence.corners(v, 1));
-    const Eigen::Vector3f c = body.segment<3>(3 * correspondence.corners(v, 2));
-    Eigen::Vector3f normal = (b - a).cross(c - a);
+  for (Eigen::Index v = 0; v < correspondence.vertex_count(); ++v) {
+    Eigen::Map<Eigen::Vector3f> g(positions + 3 * v);
+    Eigen::Vector3f point = Eigen::Vector3f::Zero();
+    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+    float best = std::numeric_limits<float>::infinity();
+    for (Eigen::Index r = v * k; r < (v + 1) * k; ++r) {
+      const Eigen::Vector3f a = body.segment<3>(3 * correspondence.corners(r, 0));
+      const Eigen::Vector3f b = body.segment<3>(3 * correspondence.corners(r, 1));
+      const Eigen::Vector3f c = body.segment<3>(3 * correspondence.corners(r, 2));
+      const Eigen::Vector3f anchor = correspondence.barycentric(r, 0) * a +
+                                     correspondence.barycentric(r, 1) * b +
+                                     correspondence.barycentric(r, 2) * c;
+      const float distance = (g - anchor).squaredNorm();
+      if (distance < best) {
+        best = distance;
+        point = anchor;
+        normal = (b - a).cross(c - a);
+      }
+    }
     const float length = normal.norm();
     if (!(length > 0)) continue;
     normal /= length;
-    const Eigen::Vector3f point = correspondence.barycentric(v, 0) * a +
-                                  correspondence.barycentric(v, 1) * b +
-                                  correspondence.barycentric(v, 2) * c;
-    Eigen::Map<Eigen::Vector3f> g(positions + 3 * v);
     const float distance = (g - point).dot(normal);
     if (distance < offset) {
       g += (offset - distance) * normal;

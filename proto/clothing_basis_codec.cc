@@ -21,6 +21,7 @@ void ClothingModelToProto(const core::ClothingModel& model, v1::ClothingBasis* m
 void BodyCorrespondenceToProto(const core::BodyCorrespondence& correspondence,
                                v1::BodyCorrespondence* message) {
   message->set_offset(correspondence.offset);
+  message->set_anchors_per_vertex(static_cast<uint32_t>(correspondence.anchors_per_vertex));
   message->mutable_body_vertices()->Assign(correspondence.body_vertices.begin(),
                                            correspondence.body_vertices.end());
   message->mutable_body_mean()->Assign(correspondence.body_mean.begin(),
@@ -61,9 +62,11 @@ absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
     const v1::ClothingBasis& message) {
   const v1::BodyCorrespondence& c = message.correspondence();
   const int64_t v = message.vertex_count();
+  const int64_t k = c.anchors_per_vertex();
   const int64_t u = c.body_vertices_size();
   const int64_t n = message.component_count();
-  if (c.corners_size() != 3 * v || c.barycentric_size() != 3 * v || c.body_mean_size() != 3 * u ||
+  if (k < 1 || k > 64 || c.corners_size() != 3 * v * k || c.barycentric_size() != 3 * v * k ||
+      c.body_mean_size() != 3 * u ||
       c.body_components_size() != 3 * u * n) {
     return absl::InvalidArgumentError(absl::StrCat(
         "clothing basis ", message.id(), " has an inconsistent body correspondence (", v,
@@ -71,16 +74,17 @@ absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
   }
   core::BodyCorrespondence result;
   result.offset = c.offset();
+  result.anchors_per_vertex = static_cast<int>(k);
   result.body_vertices.assign(c.body_vertices().begin(), c.body_vertices().end());
   result.body_mean = Eigen::Map<const Eigen::VectorXf>(c.body_mean().data(), 3 * u);
   result.body_components = Eigen::Map<const Eigen::MatrixXf>(c.body_components().data(), 3 * u, n);
-  result.corners.resize(v, 3);
-  for (int64_t i = 0; i < 3 * v; ++i) {
+  result.corners.resize(v * k, 3);
+  for (int64_t i = 0; i < 3 * v * k; ++i) {
     result.corners(i / 3, i % 3) = static_cast<int32_t>(std::min<uint32_t>(c.corners(i), INT32_MAX));
   }
   result.barycentric =
       Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-          c.barycentric().data(), v, 3);
+          c.barycentric().data(), v * k, 3);
   RETURN_IF_ERROR(core::ValidateBodyCorrespondence(result, v, static_cast<int>(n)));
   return result;
 }

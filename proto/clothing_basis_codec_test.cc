@@ -21,13 +21,14 @@ core::ClothingModel SmallModel() {
 core::BodyCorrespondence SmallCorrespondence() {
   core::BodyCorrespondence c;
   c.offset = 0.0025;
+  c.anchors_per_vertex = 2;
   c.body_vertices = {3, 7, 9, 12};
   c.body_mean = Eigen::VectorXf::Random(12);
   c.body_components = Eigen::MatrixXf::Random(12, 2);
-  c.corners.resize(2, 3);
-  c.corners << 0, 1, 2, 1, 2, 3;
-  c.barycentric.resize(2, 3);
-  c.barycentric << 0.2f, 0.3f, 0.5f, 1, 0, 0;
+  c.corners.resize(4, 3);
+  c.corners << 0, 1, 2, 1, 2, 3, 0, 1, 3, 0, 2, 3;
+  c.barycentric.resize(4, 3);
+  c.barycentric << 0.2f, 0.3f, 0.5f, 1, 0, 0, 0, 1, 0, 0.5f, 0.5f, 0;
   return c;
 }
 

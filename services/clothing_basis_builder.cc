@@ -56,12 +56,19 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
   ASSIGN_OR_RETURN(core::ClothingModel model,
                    core::BuildClothingModel(method, plan.design, drapes));
   ASSIGN_OR_RETURN(core::Mesh mean_body, proto::MeshFromProto(spec.avatar_basis->mean()));
-  const core::Positions mean_drape =
-      Eigen::Map<const core::Positions>(drapes.col(0).data(), vertex_count, 3);
+  std::vector<core::Positions> example_drapes;
+  std::vector<core::CorrespondenceExample> examples;
+  for (Eigen::Index e = 0; e < drapes.cols(); ++e) {
+    example_drapes.push_back(Eigen::Map<const core::Positions>(drapes.col(e).data(), vertex_count, 3));
+  }
+  for (Eigen::Index e = 0; e < drapes.cols(); ++e) {
+    examples.push_back({&example_drapes[e], plan.design.Weights(static_cast<int>(e))});
+  }
   ASSIGN_OR_RETURN(core::BodyCorrespondence correspondence,
-                   core::BuildBodyCorrespondence(mean_drape, plan.avatar,
+                   core::BuildBodyCorrespondence(examples, plan.avatar,
                                                  core::Triangulate(mean_body.faces),
-                                                 spec.settings.collision_offset));
+                                                 spec.settings.collision_offset,
+                                                 spec.cleanup_anchors));
 
   v1::ClothingBasis message;
   message.set_garment_id(garment.id());
@@ -78,7 +85,8 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
       .Add(absl::string_view(spec.size))
       .Add(absl::string_view(spec.avatar_basis->id()))
       .Add(absl::string_view(message.method()))
-      .Add(spec.example_scale);
+      .Add(spec.example_scale)
+      .Add(static_cast<int64_t>(spec.cleanup_anchors));
   for (size_t e = 0; e < plan.tasks.size(); ++e) {
     v1::ClothingExample* example = provenance->add_examples();
     example->set_label(plan.design.Label(static_cast<int>(e)));

@@ -20,6 +20,8 @@ struct ClothingBuildSpec {
   const v1::Garment* garment = nullptr;
   std::string size;
   double example_scale = 1.0;  // s: examples at mu +- s sigma_k phi_k.
+  // Anchors per garment vertex of the fit-time collision clean-up (see BodyCorrespondence).
+  int cleanup_anchors = 4;
   workers::ClothSettings settings;
   workers::DrapeSchedule schedule;
 };

@@ -12,6 +12,8 @@
 namespace fitbase::services {
 namespace {
 
+namespace fs = std::filesystem;
+
 struct EvalFlags {
   std::string basis;
   std::vector<std::string> garments;
@@ -23,6 +25,7 @@ struct EvalFlags {
   double scale = 1.0;
   int jobs = 2;
   workers::DrapeSchedule schedule;
+  std::string cache;
   std::string out;
 };
 
@@ -51,7 +54,9 @@ absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
   spec.methods = absl::StrSplit(flags.methods, ',', absl::SkipWhitespace());
   spec.example_scale = flags.scale;
   spec.schedule = flags.schedule;
-  spec.run = {.cache_dir = out / "drapes", .jobs = flags.jobs, .label = "drapes"};
+  spec.run = {.cache_dir = flags.cache.empty() ? out / "drapes" : fs::path(flags.cache),
+              .jobs = flags.jobs,
+              .label = "drapes"};
   spec.clothing_dir = out;
   ASSIGN_OR_RETURN(v1::AccuracyReport report, EvaluateAccuracy(model, spec));
   const std::string markdown = AccuracyReportMarkdown(report);
@@ -87,6 +92,8 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
   eval->add_option("--jobs", flags->jobs, "Drapes side by side (default: 2)")
       ->check(CLI::Range(1, 256));
   AddDrapeScheduleOptions(eval, flags->schedule);
+  eval->add_option("--cache", flags->cache,
+                   "Folder of drape results reused by content key (default: OUT/drapes)");
   eval->add_option("--out", flags->out,
                    "Folder for report.md, report.json, the clothing bases and the drape cache")
       ->required();
