@@ -18,9 +18,9 @@ OneVertex MakeOneVertex() {
   OneVertex s;
   s.model.method = ClothingMethod::kLinear;
   s.model.component_count = 2;
-  s.model.mean = Eigen::Vector3f(0.2f, 0.001f, 0.2f);
-  s.model.terms = Eigen::MatrixXf::Zero(3, 1);
-  s.model.terms(1, 0) = 1;
+  s.model.basis = Eigen::MatrixXf::Zero(3, 2);
+  s.model.basis.col(0) << 0.2f, 0.001f, 0.2f;
+  s.model.basis(1, 1) = 1;
   s.model.term_component = {1};
   s.model.term_power = {1};
   s.correspondence.offset = 0.0025;

@@ -58,9 +58,9 @@ absl::StatusOr<ExampleDesign> MakeExampleDesign(const Eigen::VectorXd& sigmas, d
 namespace {
 
 void AddTerms(const Eigen::MatrixXd& columns, int power, ClothingModel& model) {
-  const Eigen::Index first = model.terms.cols();
-  model.terms.conservativeResize(columns.rows(), first + columns.cols());
-  model.terms.rightCols(columns.cols()) = columns.cast<float>();
+  const Eigen::Index first = model.basis.cols();
+  model.basis.conservativeResize(columns.rows(), first + columns.cols());
+  model.basis.rightCols(columns.cols()) = columns.cast<float>();
   for (Eigen::Index k = 0; k < columns.cols(); ++k) {
     model.term_component.push_back(static_cast<int32_t>(k));
     model.term_power.push_back(power);
@@ -96,18 +96,18 @@ absl::StatusOr<ClothingModel> BuildClothingModel(ClothingMethod method,
   ClothingModel model;
   model.method = method;
   model.component_count = n;
-  model.terms.resize(drapes.rows(), 0);
+  model.basis.resize(drapes.rows(), 1);
   const Eigen::MatrixXd plus = drapes.middleCols(1, n);
   const Eigen::MatrixXd minus = drapes.middleCols(n + 1, n);
   const Eigen::VectorXd g0 = drapes.col(0);
   if (method == ClothingMethod::kPaper) {
     Eigen::VectorXd mean;
     const Eigen::MatrixXd components = PaperComponents(plus, mean);
-    model.mean = mean.cast<float>();
+    model.basis.col(0) = mean.cast<float>();
     AddTerms(components, 1, model);
     return model;
   }
-  model.mean = g0.cast<float>();
+  model.basis.col(0) = g0.cast<float>();
   const Eigen::ArrayXd step = design.scale * design.sigmas.array();
   AddTerms((plus - minus) * (0.5 / step).matrix().asDiagonal(), 1, model);
   if (method == ClothingMethod::kQuadratic) {
@@ -118,18 +118,15 @@ absl::StatusOr<ClothingModel> BuildClothingModel(ClothingMethod method,
 }
 
 absl::Status ValidateClothingModel(const ClothingModel& model) {
-  const Eigen::Index d = model.mean.size();
-  const Eigen::Index t = model.terms.cols();
+  const Eigen::Index d = model.basis.rows();
+  const Eigen::Index t = model.term_count();
   if (d == 0 || d % 3 != 0) {
     return absl::InvalidArgumentError(absl::StrCat("clothing mean has ", d, " values; expected 3V"));
   }
   if (model.component_count <= 0) {
     return absl::InvalidArgumentError("clothing model takes no avatar weights");
   }
-  if (model.terms.rows() != d && t > 0) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("clothing terms have ", model.terms.rows(), " rows; expected ", d));
-  }
+  if (t < 0) return absl::InvalidArgumentError("clothing model has no mean");
   if (static_cast<Eigen::Index>(model.term_component.size()) != t ||
       static_cast<Eigen::Index>(model.term_power.size()) != t) {
     return absl::InvalidArgumentError("clothing term components and powers disagree with terms");
@@ -145,7 +142,7 @@ absl::Status ValidateClothingModel(const ClothingModel& model) {
           absl::StrCat("clothing term ", i, " has power ", model.term_power[i]));
     }
   }
-  if (!model.mean.allFinite() || !model.terms.allFinite()) {
+  if (!model.basis.allFinite()) {
     return absl::InvalidArgumentError("clothing model is not finite");
   }
   return absl::OkStatus();
@@ -163,11 +160,13 @@ absl::Status CheckFitWeights(const ClothingModel& model, const Eigen::VectorXf& 
 
 namespace {
 
+// (1, f_0(w), ..., f_T-1(w)): the mean's coefficient first.
 template <typename Weights, typename Features>
 void ComputeFeatures(const ClothingModel& model, const Weights& weights, Features& features) {
+  features(0) = 1;
   for (size_t t = 0; t < model.term_component.size(); ++t) {
     const auto w = weights(model.term_component[t]);
-    features(static_cast<Eigen::Index>(t)) = model.term_power[t] == 1 ? w : w * w;
+    features(static_cast<Eigen::Index>(t) + 1) = model.term_power[t] == 1 ? w : w * w;
   }
 }
 
@@ -175,21 +174,19 @@ void ComputeFeatures(const ClothingModel& model, const Weights& weights, Feature
 
 void FitClothing(const ClothingModel& model, const Eigen::VectorXf& weights,
                  Eigen::VectorXf& features, Eigen::VectorXf& out) {
-  features.resize(model.terms.cols());
+  features.resize(model.basis.cols());
   ComputeFeatures(model, weights, features);
-  out = model.mean;
-  out.noalias() += model.terms * features;
+  out.noalias() = model.basis * features;
 }
 
 void FitClothingBatch(const ClothingModel& model, const Eigen::MatrixXf& weights,
                       Eigen::MatrixXf& out) {
-  Eigen::MatrixXf features(model.terms.cols(), weights.cols());
+  Eigen::MatrixXf features(model.basis.cols(), weights.cols());
   for (Eigen::Index b = 0; b < weights.cols(); ++b) {
     auto column = features.col(b);
     ComputeFeatures(model, weights.col(b), column);
   }
-  out = model.mean.replicate(1, weights.cols());
-  out.noalias() += model.terms * features;
+  out.noalias() = model.basis * features;
 }
 
 }  // namespace fitbase::core

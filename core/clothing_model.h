@@ -39,16 +39,20 @@ struct ExampleDesign {
 absl::StatusOr<ExampleDesign> MakeExampleDesign(const Eigen::VectorXd& sigmas, double scale);
 
 // g(w) = mean + terms * f(w), f_t(w) = w[term_component[t]] ^ term_power[t].
-// Flattened garments: D = 3V floats, xyz interleaved, meters. `terms` is D x T column-major,
-// so each term is one contiguous D-vector (the layout bench/fit_bench measures fastest).
+// Flattened garments: D = 3V floats, xyz interleaved, meters. `basis` is D x (1 + T),
+// column-major: column 0 is the mean and column 1 + t is term t, each one contiguous D-vector.
+// A fit is then one matrix-vector product with (1, f(w)) and a batch of customers one matrix
+// product, each result written once (bench/fit_bench measures this layout fastest).
 struct ClothingModel {
   ClothingMethod method = ClothingMethod::kLinear;
   int component_count = 0;  // N: the length of the weight vectors the fit takes.
-  Eigen::VectorXf mean;     // D.
-  Eigen::MatrixXf terms;    // D x T.
+  Eigen::MatrixXf basis;    // D x (1 + T).
   std::vector<int32_t> term_component;  // T, in [0, N).
   std::vector<int32_t> term_power;      // T, 1 or 2.
-  int64_t vertex_count() const { return mean.size() / 3; }
+  auto mean() const { return basis.col(0); }
+  auto terms() const { return basis.rightCols(basis.cols() - 1); }
+  int64_t term_count() const { return basis.cols() - 1; }
+  int64_t vertex_count() const { return basis.rows() / 3; }
 };
 
 // drapes: D x (2N + 1), the example drapes in ExampleDesign order, meters, all finite.
@@ -63,7 +67,7 @@ absl::Status ValidateClothingModel(const ClothingModel& model);
 // weights must have model.component_count finite entries (InvalidArgument otherwise).
 absl::Status CheckFitWeights(const ClothingModel& model, const Eigen::VectorXf& weights);
 
-// One customer: out (D) = g(weights). `features` is scratch of T floats. No allocation once
+// One customer: out (D) = g(weights). `features` is scratch of 1 + T floats. No allocation once
 // `out` and `features` have their sizes; the weights are assumed checked.
 void FitClothing(const ClothingModel& model, const Eigen::VectorXf& weights,
                  Eigen::VectorXf& features, Eigen::VectorXf& out);

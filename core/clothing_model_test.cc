@@ -61,7 +61,7 @@ TEST(ClothingModelTest, QuadraticReproducesEveryExample) {
   const ExampleDesign design = Design();
   const Eigen::MatrixXd drapes = ExampleDrapes(design);
   const ClothingModel model = *BuildClothingModel(ClothingMethod::kQuadratic, design, drapes);
-  EXPECT_EQ(model.terms.cols(), 2 * kComponents);
+  EXPECT_EQ(model.term_count(), 2 * kComponents);
   for (int e = 0; e < design.example_count(); ++e) {
     EXPECT_LT((Fit(model, design.Weights(e)).cast<double>() - drapes.col(e)).cwiseAbs().maxCoeff(),
               1e-5)
@@ -73,7 +73,7 @@ TEST(ClothingModelTest, LinearReproducesTheMeanAndTheCentralDifference) {
   const ExampleDesign design = Design();
   const Eigen::MatrixXd drapes = ExampleDrapes(design);
   const ClothingModel model = *BuildClothingModel(ClothingMethod::kLinear, design, drapes);
-  EXPECT_EQ(model.terms.cols(), kComponents);
+  EXPECT_EQ(model.term_count(), kComponents);
   EXPECT_LT((Fit(model, design.Weights(0)).cast<double>() - drapes.col(0)).cwiseAbs().maxCoeff(),
             1e-6);
   // g(+e) - g(-e) equals the examples' difference; the examples themselves are not reproduced
@@ -97,10 +97,10 @@ TEST(ClothingModelTest, PaperMatchesAHandComputedCase) {
   drapes.col(1) << 0, 0, 0;
   drapes.col(2) << 2, 2, 0;
   const ClothingModel model = *BuildClothingModel(ClothingMethod::kPaper, design, drapes);
-  EXPECT_TRUE(model.mean.isApprox(Eigen::Vector3f(1, 1, 0)));
+  EXPECT_TRUE(model.mean().isApprox(Eigen::Vector3f(1, 1, 0)));
   const float r = std::sqrt(0.5f);
-  EXPECT_TRUE(model.terms.col(0).isApprox(Eigen::Vector3f(-r, -r, 0)));
-  EXPECT_TRUE(model.terms.col(1).isApprox(Eigen::Vector3f(r, r, 0)));
+  EXPECT_TRUE(model.terms().col(0).isApprox(Eigen::Vector3f(-r, -r, 0)));
+  EXPECT_TRUE(model.terms().col(1).isApprox(Eigen::Vector3f(r, r, 0)));
   Eigen::VectorXd w(2);
   w << 0.3, 0.1;  // 1 + (-0.3 + 0.1) / sqrt(2) on x and y.
   const Eigen::VectorXf fit = Fit(model, w);

@@ -10,8 +10,9 @@ void ClothingModelToProto(const core::ClothingModel& model, v1::ClothingBasis* m
   message->set_method(core::ClothingMethodName(model.method));
   message->set_vertex_count(static_cast<uint32_t>(model.vertex_count()));
   message->set_component_count(static_cast<uint32_t>(model.component_count));
-  message->mutable_mean()->Assign(model.mean.begin(), model.mean.end());
-  const auto terms = model.terms.reshaped();
+  const auto mean = model.mean();
+  message->mutable_mean()->Assign(mean.begin(), mean.end());
+  const auto terms = model.terms().reshaped();
   message->mutable_terms()->Assign(terms.begin(), terms.end());
   message->mutable_term_component()->Assign(model.term_component.begin(),
                                             model.term_component.end());
@@ -48,8 +49,9 @@ absl::StatusOr<core::ClothingModel> ClothingModelFromProto(const v1::ClothingBas
   core::ClothingModel model;
   model.method = method;
   model.component_count = static_cast<int>(message.component_count());
-  model.mean = Eigen::Map<const Eigen::VectorXf>(message.mean().data(), d);
-  model.terms = Eigen::Map<const Eigen::MatrixXf>(message.terms().data(), d, t);
+  model.basis.resize(d, 1 + t);
+  model.basis.col(0) = Eigen::Map<const Eigen::VectorXf>(message.mean().data(), d);
+  model.basis.rightCols(t) = Eigen::Map<const Eigen::MatrixXf>(message.terms().data(), d, t);
   for (int64_t i = 0; i < t; ++i) {
     model.term_component.push_back(static_cast<int32_t>(message.term_component(i)));
     model.term_power.push_back(static_cast<int32_t>(message.term_power(i)));
