@@ -46,7 +46,7 @@ for preset in women men; do
     --sizes M,XL --out "$out/$preset/$g.fbg"
   for size in M XL; do
     "$fitbase" clothing build --basis "$basis" --garment "$out/$preset/$g.fbg" --size "$size" \
-      --method quadratic --cache "$out/drapes" --out "$out/$preset/$g-$size.fbc"
+      --method linear --cache "$out/drapes" --out "$out/$preset/$g-$size.fbc"
     for customer in 0 1 2; do
       "$fitbase" fit --clothing "$out/$preset/$g-$size.fbc" --basis "$basis" \
         --avatar "$out/$preset/holdout/avatar-0000$customer.obj" \
