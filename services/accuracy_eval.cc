@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -165,26 +166,32 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
                              v1::GarmentAccuracy& out) {
   const v1::Garment& garment = *g.spec.garment;
   const int64_t vertex_count = garment.template_mesh().vertex_count();
+  std::optional<core::ClothingFitter> fitter;
   for (RowStats& row : rows) {
     if (row.method == "nearest" || row.method == "geometric") continue;
-    ASSIGN_OR_RETURN(core::ClothingMethod method, core::ParseClothingMethod(row.method));
-    ASSIGN_OR_RETURN(v1::ClothingBasis basis, AssembleClothingBasis(g.spec, g.plan, method, examples));
-    if (method == core::ClothingMethod::kLinear) out.set_clothing_basis_id(basis.id());
-    if (!row.cleanup && !spec.clothing_dir.empty()) {
-      RETURN_IF_ERROR(proto::WriteMessageFile(
-          spec.clothing_dir / absl::StrCat(garment.name(), "-", spec.size, "-", row.method, ".fbc"),
-          basis));
+    // Rows come in pairs (without, then with clean-up) that share one clothing basis.
+    if (!row.cleanup) {
+      ASSIGN_OR_RETURN(core::ClothingMethod method, core::ParseClothingMethod(row.method));
+      ASSIGN_OR_RETURN(v1::ClothingBasis basis,
+                       AssembleClothingBasis(g.spec, g.plan, method, examples));
+      if (method == core::ClothingMethod::kLinear) out.set_clothing_basis_id(basis.id());
+      if (!spec.clothing_dir.empty()) {
+        RETURN_IF_ERROR(proto::WriteMessageFile(
+            spec.clothing_dir /
+                absl::StrCat(garment.name(), "-", spec.size, "-", row.method, ".fbc"),
+            basis));
+      }
+      ASSIGN_OR_RETURN(fitter, proto::ClothingFitterFromProto(basis));
     }
-    ASSIGN_OR_RETURN(core::ClothingFitter fitter, proto::ClothingFitterFromProto(basis));
     core::FitScratch scratch;
     Eigen::VectorXf fit;
     for (size_t h = 0; h < holdouts.size(); ++h) {
-      RETURN_IF_ERROR(fitter.Fit(holdouts[h].weights, row.cleanup, scratch, fit).status());
+      RETURN_IF_ERROR(fitter->Fit(holdouts[h].weights, row.cleanup, scratch, fit).status());
       ASSIGN_OR_RETURN(core::Positions truth, workers::DrapeResultPositions(truths[h], vertex_count));
       row.Add(FromFlat(fit), truth, holdouts[h].surface);
     }
     row.fit_micros_sum += MicrosPerCall(
-        [&] { (void)fitter.Fit(holdouts[0].weights, row.cleanup, scratch, fit); });
+        [&] { (void)fitter->Fit(holdouts[0].weights, row.cleanup, scratch, fit); });
     ++row.fit_micros_count;
   }
   std::vector<Eigen::VectorXf> example_weights;
