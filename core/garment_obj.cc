@@ -5,10 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "absl/strings/str_split.h"
 #include "core/file_util.h"
 #include "core/status_macros.h"
 #include "core/text_tokens.h"
@@ -37,81 +35,76 @@ absl::StatusOr<GarmentMesh> ReadGarmentObj(const std::filesystem::path& path) {
   int64_t normal_count = 0;
   GarmentMesh garment;
   PolygonFaces& faces = garment.mesh.faces;
-  std::vector<absl::string_view> tokens;
-  int line_number = 0;
-  for (absl::string_view line : absl::StrSplit(text, '\n')) {
-    ++line_number;
-    line = absl::StripAsciiWhitespace(line);
-    if (line.empty() || line.front() == '#') continue;
-    auto error = [&](absl::string_view what) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(name, " line ", line_number, ": ", what, ": '", line, "'"));
-    };
-    SplitTokens(line, tokens);
-    const absl::string_view keyword = tokens[0];
-    const size_t argument_count = tokens.size() - 1;
-    if (keyword == "v") {
-      // A fourth number is a homogeneous w, three more are a vertex colour (MeshLab, ZBrush);
-      // neither matters to a garment's shape.
-      if (argument_count != 3 && argument_count != 4 && argument_count != 6) {
-        return error("expected 'v x y z' (optionally with w or r g b)");
-      }
-      for (size_t k = 1; k <= 3; ++k) {
-        double value = 0.0;
-        if (!ParseNumber(tokens[k], value) || !std::isfinite(value)) {
-          return error("coordinate is not a finite number");
-        }
-        positions.push_back(value);
-      }
-    } else if (keyword == "vt") {
-      if (argument_count != 2 && argument_count != 3) return error("expected 'vt u v'");
-      for (size_t k = 1; k <= 2; ++k) {
-        double value = 0.0;
-        if (!ParseNumber(tokens[k], value) || !std::isfinite(value)) {
-          return error("texture coordinate is not a finite number");
-        }
-        texcoords.push_back(value);
-      }
-    } else if (keyword == "vn") {
-      ++normal_count;
-    } else if (keyword == "f") {
-      if (argument_count < 3) return error("a face needs at least 3 corners");
-      const int64_t vertex_count = static_cast<int64_t>(positions.size() / 3);
-      const int64_t texcoord_count = static_cast<int64_t>(texcoords.size() / 2);
-      for (size_t k = 1; k <= argument_count; ++k) {
-        // v, v/vt, v//vn or v/vt/vn.
-        const absl::string_view corner = tokens[k];
-        const size_t first_slash = corner.find('/');
-        int32_t vertex = 0;
-        if (!ResolveIndex(corner.substr(0, first_slash), vertex_count, vertex)) {
-          return error(absl::StrCat("corner '", corner, "' does not name one of the ", vertex_count,
-                                    " vertices defined so far"));
-        }
-        int32_t texcoord = -1;
-        if (first_slash != absl::string_view::npos) {
-          const absl::string_view rest = corner.substr(first_slash + 1);
-          const size_t second_slash = rest.find('/');
-          const absl::string_view texcoord_token = rest.substr(0, second_slash);
-          if (!texcoord_token.empty() && !ResolveIndex(texcoord_token, texcoord_count, texcoord)) {
-            return error(absl::StrCat("corner '", corner, "' does not name one of the ",
-                                      texcoord_count, " texture coordinates defined so far"));
+  RETURN_IF_ERROR(ForEachDataLine(
+      text, name, CommentStyle::kWholeLine, [&](const TextLine& line) -> absl::Status {
+        const std::vector<absl::string_view>& tokens = *line.tokens;
+        const absl::string_view keyword = tokens[0];
+        const size_t argument_count = tokens.size() - 1;
+        if (keyword == "v") {
+          // A fourth number is a homogeneous w, three more are a vertex colour (MeshLab, ZBrush);
+          // neither matters to a garment's shape.
+          if (argument_count != 3 && argument_count != 4 && argument_count != 6) {
+            return line.Error("expected 'v x y z' (optionally with w or r g b)");
           }
-          int32_t normal = 0;
-          if (second_slash != absl::string_view::npos &&
-              !ResolveIndex(rest.substr(second_slash + 1), normal_count, normal)) {
-            return error(absl::StrCat("corner '", corner, "' does not name one of the ",
-                                      normal_count, " normals defined so far"));
+          for (size_t k = 1; k <= 3; ++k) {
+            double value = 0.0;
+            if (!ParseNumber(tokens[k], value) || !std::isfinite(value)) {
+              return line.Error("coordinate is not a finite number");
+            }
+            positions.push_back(value);
           }
-          if (second_slash == absl::string_view::npos && texcoord_token.empty()) {
-            return error(absl::StrCat("corner '", corner, "' is malformed"));
+        } else if (keyword == "vt") {
+          if (argument_count != 2 && argument_count != 3) return line.Error("expected 'vt u v'");
+          for (size_t k = 1; k <= 2; ++k) {
+            double value = 0.0;
+            if (!ParseNumber(tokens[k], value) || !std::isfinite(value)) {
+              return line.Error("texture coordinate is not a finite number");
+            }
+            texcoords.push_back(value);
           }
+        } else if (keyword == "vn") {
+          ++normal_count;
+        } else if (keyword == "f") {
+          if (argument_count < 3) return line.Error("a face needs at least 3 corners");
+          const int64_t vertex_count = static_cast<int64_t>(positions.size() / 3);
+          const int64_t texcoord_count = static_cast<int64_t>(texcoords.size() / 2);
+          for (size_t k = 1; k <= argument_count; ++k) {
+            // v, v/vt, v//vn or v/vt/vn.
+            const absl::string_view corner = tokens[k];
+            const size_t first_slash = corner.find('/');
+            int32_t vertex = 0;
+            if (!ResolveIndex(corner.substr(0, first_slash), vertex_count, vertex)) {
+              return line.Error(absl::StrCat("corner '", corner, "' does not name one of the ",
+                                             vertex_count, " vertices defined so far"));
+            }
+            int32_t texcoord = -1;
+            if (first_slash != absl::string_view::npos) {
+              const absl::string_view rest = corner.substr(first_slash + 1);
+              const size_t second_slash = rest.find('/');
+              const absl::string_view texcoord_token = rest.substr(0, second_slash);
+              if (!texcoord_token.empty() &&
+                  !ResolveIndex(texcoord_token, texcoord_count, texcoord)) {
+                return line.Error(absl::StrCat("corner '", corner, "' does not name one of the ",
+                                               texcoord_count,
+                                               " texture coordinates defined so far"));
+              }
+              int32_t normal = 0;
+              if (second_slash != absl::string_view::npos &&
+                  !ResolveIndex(rest.substr(second_slash + 1), normal_count, normal)) {
+                return line.Error(absl::StrCat("corner '", corner, "' does not name one of the ",
+                                               normal_count, " normals defined so far"));
+              }
+              if (second_slash == absl::string_view::npos && texcoord_token.empty()) {
+                return line.Error(absl::StrCat("corner '", corner, "' is malformed"));
+              }
+            }
+            faces.indices.push_back(vertex);
+            garment.face_texcoord_indices.push_back(texcoord);
+          }
+          faces.sizes.push_back(static_cast<int32_t>(argument_count));
         }
-        faces.indices.push_back(vertex);
-        garment.face_texcoord_indices.push_back(texcoord);
-      }
-      faces.sizes.push_back(static_cast<int32_t>(argument_count));
-    }
-  }
+        return absl::OkStatus();
+      }));
   if (positions.empty()) return absl::InvalidArgumentError(absl::StrCat(name, " has no vertices"));
   garment.mesh.positions = Eigen::Map<const Positions>(
       positions.data(), static_cast<Eigen::Index>(positions.size() / 3), 3);

@@ -6,7 +6,6 @@
 
 #include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_split.h"
 #include "core/file_util.h"
 #include "core/status_macros.h"
 #include "core/text_tokens.h"
@@ -27,87 +26,83 @@ absl::StatusOr<MhcloBinding> ParseMhclo(absl::string_view text, int64_t referenc
   std::array<bool, 3> has_scale = {false, false, false};
   bool has_verts = false;
   bool in_verts = false;
-  std::vector<absl::string_view> tokens;
-  int line_number = 0;
-  for (absl::string_view line : absl::StrSplit(text, '\n')) {
-    ++line_number;
-    const size_t comment = line.find('#');
-    if (comment != absl::string_view::npos) line = line.substr(0, comment);
-    line = absl::StripAsciiWhitespace(line);
-    if (line.empty()) continue;
-    auto error = [&](absl::string_view what) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("mhclo ", name, " line ", line_number, ": ", what, ": '", line, "'"));
-    };
-    auto parse_index = [&](absl::string_view token, int32_t& index) -> absl::Status {
-      int64_t value = 0;
-      if (!ParseNumber(token, value)) return error("vertex index is not an integer");
-      if (value < 0 || value >= reference_vertex_count) {
-        return error(
-            absl::StrCat("reference vertex index outside [0, ", reference_vertex_count, ")"));
-      }
-      index = static_cast<int32_t>(value);
-      return absl::OkStatus();
-    };
-    SplitTokens(line, tokens);
-
-    // A keyword ends the vertex block; the lines of numbers after other keywords
-    // (delete_verts ranges such as `1355 - 1388`) are not vertices.
-    if (absl::ascii_isalpha(static_cast<unsigned char>(line.front()))) {
-      in_verts = false;
-      const absl::string_view keyword = tokens[0];
-      const absl::string_view argument =
-          absl::StripLeadingAsciiWhitespace(line.substr(keyword.size()));
-      if (keyword == "name") {
-        binding.name = std::string(argument);
-      } else if (keyword == "obj_file") {
-        binding.obj_file = std::string(argument);
-      } else if (keyword == "verts") {
-        // MakeHuman ignores the argument (always `verts 0`).
-        if (has_verts) return error("a second 'verts' block");
-        has_verts = true;
-        in_verts = true;
-      } else {
-        for (int axis = 0; axis < 3; ++axis) {
-          if (keyword != kScaleKeywords[axis]) continue;
-          if (has_scale[axis]) return error(absl::StrCat("repeated ", keyword));
-          if (tokens.size() != 4) {
-            return error(absl::StrCat("expected '", keyword, " i j reference_distance'"));
+  RETURN_IF_ERROR(ForEachDataLine(
+      text, absl::StrCat("mhclo ", name), CommentStyle::kTrailing,
+      [&](const TextLine& line) -> absl::Status {
+        const std::vector<absl::string_view>& tokens = *line.tokens;
+        auto parse_index = [&](absl::string_view token, int32_t& index) -> absl::Status {
+          int64_t value = 0;
+          if (!ParseNumber(token, value)) return line.Error("vertex index is not an integer");
+          if (value < 0 || value >= reference_vertex_count) {
+            return line.Error(
+                absl::StrCat("reference vertex index outside [0, ", reference_vertex_count, ")"));
           }
-          MhcloBinding::AxisScale& scale = binding.scales[axis];
-          RETURN_IF_ERROR(parse_index(tokens[1], scale.i));
-          RETURN_IF_ERROR(parse_index(tokens[2], scale.j));
-          if (!ParseNumber(tokens[3], scale.reference_distance) ||
-              !std::isfinite(scale.reference_distance) || scale.reference_distance <= 0.0) {
-            return error("reference distance is not a positive finite number");
-          }
-          has_scale[axis] = true;
-        }
-      }
-      continue;
-    }
-    if (!in_verts) continue;
+          index = static_cast<int32_t>(value);
+          return absl::OkStatus();
+        };
 
-    std::array<int32_t, 3> vertex_references;
-    std::array<double, 6> values = {1.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    if (tokens.size() == 1) {
-      RETURN_IF_ERROR(parse_index(tokens[0], vertex_references[0]));
-      // The unused references repeat the bound vertex so every index stays valid.
-      vertex_references[1] = vertex_references[2] = vertex_references[0];
-    } else if (tokens.size() == 9) {
-      for (int k = 0; k < 3; ++k) RETURN_IF_ERROR(parse_index(tokens[k], vertex_references[k]));
-      for (int k = 0; k < 6; ++k) {
-        if (!ParseNumber(tokens[3 + k], values[k]) || !std::isfinite(values[k])) {
-          return error(k < 3 ? "weight is not a finite number" : "offset is not a finite number");
+        // A keyword ends the vertex block; the lines of numbers after other keywords
+        // (delete_verts ranges such as `1355 - 1388`) are not vertices.
+        if (absl::ascii_isalpha(static_cast<unsigned char>(line.text.front()))) {
+          in_verts = false;
+          const absl::string_view keyword = tokens[0];
+          const absl::string_view argument =
+              absl::StripLeadingAsciiWhitespace(line.text.substr(keyword.size()));
+          if (keyword == "name") {
+            binding.name = std::string(argument);
+          } else if (keyword == "obj_file") {
+            binding.obj_file = std::string(argument);
+          } else if (keyword == "verts") {
+            // MakeHuman ignores the argument (always `verts 0`).
+            if (has_verts) return line.Error("a second 'verts' block");
+            has_verts = true;
+            in_verts = true;
+          } else {
+            for (int axis = 0; axis < 3; ++axis) {
+              if (keyword != kScaleKeywords[axis]) continue;
+              if (has_scale[axis]) return line.Error(absl::StrCat("repeated ", keyword));
+              if (tokens.size() != 4) {
+                return line.Error(
+                    absl::StrCat("expected '", keyword, " i j reference_distance'"));
+              }
+              MhcloBinding::AxisScale& scale = binding.scales[axis];
+              RETURN_IF_ERROR(parse_index(tokens[1], scale.i));
+              RETURN_IF_ERROR(parse_index(tokens[2], scale.j));
+              if (!ParseNumber(tokens[3], scale.reference_distance) ||
+                  !std::isfinite(scale.reference_distance) || scale.reference_distance <= 0.0) {
+                return line.Error("reference distance is not a positive finite number");
+              }
+              has_scale[axis] = true;
+            }
+          }
+          return absl::OkStatus();
         }
-      }
-    } else {
-      return error("expected 'i j k wi wj wk dx dy dz' or a single index 'i'");
-    }
-    references.insert(references.end(), vertex_references.begin(), vertex_references.end());
-    weights.insert(weights.end(), values.begin(), values.begin() + 3);
-    offsets.insert(offsets.end(), values.begin() + 3, values.end());
-  }
+        if (!in_verts) return absl::OkStatus();
+
+        std::array<int32_t, 3> vertex_references{};
+        std::array<double, 6> values = {1.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        if (tokens.size() == 1) {
+          RETURN_IF_ERROR(parse_index(tokens[0], vertex_references[0]));
+          // The unused references repeat the bound vertex so every index stays valid.
+          vertex_references[1] = vertex_references[2] = vertex_references[0];
+        } else if (tokens.size() == 9) {
+          for (int k = 0; k < 3; ++k) {
+            RETURN_IF_ERROR(parse_index(tokens[k], vertex_references[k]));
+          }
+          for (int k = 0; k < 6; ++k) {
+            if (!ParseNumber(tokens[3 + k], values[k]) || !std::isfinite(values[k])) {
+              return line.Error(k < 3 ? "weight is not a finite number"
+                                      : "offset is not a finite number");
+            }
+          }
+        } else {
+          return line.Error("expected 'i j k wi wj wk dx dy dz' or a single index 'i'");
+        }
+        references.insert(references.end(), vertex_references.begin(), vertex_references.end());
+        weights.insert(weights.end(), values.begin(), values.begin() + 3);
+        offsets.insert(offsets.end(), values.begin() + 3, values.end());
+        return absl::OkStatus();
+      }));
 
   for (int axis = 0; axis < 3; ++axis) {
     if (!has_scale[axis]) {

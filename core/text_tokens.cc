@@ -1,5 +1,9 @@
 #include "core/text_tokens.h"
 
+#include "absl/strings/ascii.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
+
 namespace fitbase::core {
 
 void SplitTokens(absl::string_view line, std::vector<absl::string_view>& tokens) {
@@ -13,6 +17,29 @@ void SplitTokens(absl::string_view line, std::vector<absl::string_view>& tokens)
     if (p == token_start) break;
     tokens.emplace_back(token_start, static_cast<size_t>(p - token_start));
   }
+}
+
+absl::Status TextLine::Error(absl::string_view what) const {
+  return absl::InvalidArgumentError(
+      absl::StrCat(label, " line ", number, ": ", what, ": '", text, "'"));
+}
+
+absl::Status ForEachDataLine(absl::string_view text, absl::string_view label,
+                             CommentStyle comments,
+                             absl::FunctionRef<absl::Status(const TextLine&)> fn) {
+  std::vector<absl::string_view> tokens;
+  TextLine line;
+  line.tokens = &tokens;
+  line.label = label;
+  for (absl::string_view raw : absl::StrSplit(text, '\n')) {
+    ++line.number;
+    if (comments == CommentStyle::kTrailing) raw = raw.substr(0, raw.find('#'));
+    line.text = absl::StripAsciiWhitespace(raw);
+    if (line.text.empty() || line.text.front() == '#') continue;
+    SplitTokens(line.text, tokens);
+    if (absl::Status status = fn(line); !status.ok()) return status;
+  }
+  return absl::OkStatus();
 }
 
 }  // namespace fitbase::core

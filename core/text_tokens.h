@@ -4,6 +4,8 @@
 #include <charconv>
 #include <vector>
 
+#include "absl/functional/function_ref.h"
+#include "absl/status/status.h"
 #include "absl/strings/string_view.h"
 
 namespace fitbase::core {
@@ -24,6 +26,26 @@ bool ParseNumber(absl::string_view token, T& value) {
 // caller looping over lines allocates once). By hand, because this Abseil's
 // string_view::find_first_of builds a lookup table on every call.
 void SplitTokens(absl::string_view line, std::vector<absl::string_view>& tokens);
+
+// One data line of a text file, as ForEachDataLine hands it over.
+struct TextLine {
+  absl::string_view text;                    // Without comment and surrounding whitespace.
+  int number = 0;                            // 1-based.
+  const std::vector<absl::string_view>* tokens = nullptr;  // SplitTokens(text).
+  absl::string_view label;                   // Names the file in errors.
+  // INVALID_ARGUMENT "<label> line <number>: <what>: '<text>'".
+  absl::Status Error(absl::string_view what) const;
+};
+
+// Where a comment may start: only at the start of a line (OBJ, .target), or anywhere, the rest
+// of the line being the comment (.mhclo).
+enum class CommentStyle { kWholeLine, kTrailing };
+
+// Calls `fn` for every line of `text` that is not blank or a comment, in order, and stops at
+// the first error it returns.
+absl::Status ForEachDataLine(absl::string_view text, absl::string_view label,
+                             CommentStyle comments,
+                             absl::FunctionRef<absl::Status(const TextLine&)> fn);
 
 }  // namespace fitbase::core
 
