@@ -33,6 +33,10 @@ class ContentHash {
   std::unique_ptr<State> state_;
 };
 
+// SHA-256 of `bytes` alone, as lower-case hex: unlike ContentHash, the digest any other tool
+// (`sha256sum`, a script provisioning API keys) computes for the same bytes.
+std::string Sha256Hex(absl::string_view bytes);
+
 }  // namespace fitbase::core
 
 #endif  // FITBASE_CORE_CONTENT_HASH_H_

@@ -27,9 +27,7 @@ bool ResolveIndex(absl::string_view token, int64_t count, int32_t& index) {
 
 }  // namespace
 
-absl::StatusOr<GarmentMesh> ReadGarmentObj(const std::filesystem::path& path) {
-  ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
-  const std::string name = path.string();
+absl::StatusOr<GarmentMesh> ParseGarmentObj(absl::string_view text, absl::string_view name) {
   std::vector<double> positions;
   std::vector<double> texcoords;
   int64_t normal_count = 0;
@@ -111,6 +109,11 @@ absl::StatusOr<GarmentMesh> ReadGarmentObj(const std::filesystem::path& path) {
   garment.texcoords = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>(
       texcoords.data(), static_cast<Eigen::Index>(texcoords.size() / 2), 2);
   return garment;
+}
+
+absl::StatusOr<GarmentMesh> ReadGarmentObj(const std::filesystem::path& path) {
+  ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
+  return ParseGarmentObj(text, path.string());
 }
 
 absl::Status WriteGarmentObj(const std::filesystem::path& path, const GarmentMesh& garment) {

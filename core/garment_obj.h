@@ -5,6 +5,7 @@
 
 #include "Eigen/Core"
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "core/mesh.h"
 
 namespace fitbase::core {
@@ -18,14 +19,17 @@ struct GarmentMesh {
   std::vector<int32_t> face_texcoord_indices;
 };
 
-// Reads an OBJ with its own parser, not OpenMesh: garments are often non-manifold (a seam
+// Parses OBJ text with its own parser, not OpenMesh: garments are often non-manifold (a seam
 // where three panels meet), and OpenMesh's halfedge importer then duplicates vertices, which
 // would break the vertex order every linear garment model depends on. Handles `v` (a trailing
 // w or r g b is ignored), `vt`, `f` with v, v/vt, v//vn and v/vt/vn corners, negative
 // (relative) indices, comments and other lines (ignored). As in the OBJ format, an index
-// refers to an element defined above its face. Errors name the line: non-finite or malformed
-// numbers, an index out of range, a face with fewer than 3 corners, a file with no vertices;
-// a missing file is NOT_FOUND.
+// refers to an element defined above its face. Errors (INVALID_ARGUMENT) name `name` (a path
+// or an upload's name) and the line: non-finite or malformed numbers, an index out of range, a
+// face with fewer than 3 corners, text with no vertices.
+absl::StatusOr<GarmentMesh> ParseGarmentObj(absl::string_view text, absl::string_view name);
+
+// ParseGarmentObj of the file's contents, named by its path; a missing file is NOT_FOUND.
 absl::StatusOr<GarmentMesh> ReadGarmentObj(const std::filesystem::path& path);
 
 // Writes positions and texture coordinates (9 significant digits, so what ReadGarmentObj read

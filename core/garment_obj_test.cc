@@ -177,6 +177,25 @@ TEST(GarmentObjTest, MalformedInputNamesTheLine) {
   }
 }
 
+TEST(GarmentObjTest, ParsesTextAsReadingItsFileWould) {
+  const std::filesystem::path path = ShippedObjFiles().front();
+  auto text = ReadFileToString(path);
+  ASSERT_TRUE(text.ok()) << text.status();
+  auto read = ReadGarmentObj(path);
+  ASSERT_TRUE(read.ok()) << read.status();
+  auto parsed = ParseGarmentObj(*text, "upload 7");
+  ASSERT_TRUE(parsed.ok()) << parsed.status();
+  ExpectSameGarment(*parsed, *read);
+}
+
+TEST(GarmentObjTest, ParseErrorsNameTheGivenNameAndLine) {
+  EXPECT_THAT(ParseGarmentObj("v 0 0 0\nv 1 0 0\nf 1 2 3\n", "retailer/shirt.obj"),
+              StatusIs(absl::StatusCode::kInvalidArgument,
+                       "retailer/shirt.obj line 3: corner '3' does not name one of the 2"));
+  EXPECT_THAT(ParseGarmentObj("", "upload 7"),
+              StatusIs(absl::StatusCode::kInvalidArgument, "upload 7 has no vertices"));
+}
+
 TEST(GarmentObjTest, MissingFileIsNotFound) {
   EXPECT_EQ(ReadGarmentObj(TempPath("missing.obj")).status().code(), absl::StatusCode::kNotFound);
 }

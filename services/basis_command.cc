@@ -15,6 +15,8 @@
 #include "services/avatar_file.h"
 #include "services/avatar_projection.h"
 #include "services/cli_context.h"
+#include "services/grpc_client.h"
+#include "fitbase/v1/catalog.grpc.pb.h"
 #include "services/population_folder.h"
 
 namespace fitbase::services {
@@ -31,6 +33,11 @@ struct BasisFlags {
   int component = 0;
   double sigma = 1.0;
   bool json = false;
+  RemoteFlags remote;
+  std::string population_name;
+  std::string preset;
+  uint32_t count = 300;
+  uint64_t seed = 1;
 };
 
 absl::Status RunBuild(const BasisFlags& flags, const CLI::App& command) {
@@ -148,6 +155,32 @@ absl::Status RunEval(const BasisFlags& flags) {
 
 }  // namespace
 
+absl::Status RunPublish(const BasisFlags& flags) {
+  v1::PublishAvatarBasisRequest request;
+  request.set_population(flags.population_name);
+  if (!flags.basis.empty()) {
+    RETURN_IF_ERROR(proto::ReadMessageFile(flags.basis, request.mutable_basis()));
+  } else if (!flags.preset.empty()) {
+    v1::PopulationSpec& spec = *request.mutable_spec();
+    spec.set_preset(flags.preset);
+    spec.set_count(flags.count);
+    spec.set_seed(flags.seed);
+    if (flags.components > 0) {
+      spec.mutable_selection()->set_component_count(static_cast<uint32_t>(flags.components));
+    }
+  } else {
+    return absl::InvalidArgumentError("give --basis FILE or --preset to sample on the server");
+  }
+  auto stub = v1::Catalog::NewStub(OpenChannel(flags.remote.address));
+  ASSIGN_OR_RETURN(std::unique_ptr<grpc::ClientContext> context,
+                   NewCallContext(flags.remote, absl::Seconds(flags.remote.timeout_seconds)));
+  v1::PublishAvatarBasisResponse response;
+  RETURN_IF_ERROR(FromGrpcStatus(stub->PublishAvatarBasis(context.get(), request, &response)));
+  std::cout << "avatar basis " << response.avatar_basis_id() << " (" << response.component_count()
+            << " components) serves population " << flags.population_name << "\n";
+  return absl::OkStatus();
+}
+
 void AddBasisCommands(CLI::App& app, CliContext& context) {
   auto flags = std::make_shared<BasisFlags>();
   CLI::App* basis = app.add_subcommand("basis", "The PCA avatar basis");
@@ -193,6 +226,22 @@ void AddBasisCommands(CLI::App& app, CliContext& context) {
   eval->add_option("--basis", flags->basis, "Basis file (.fbb)")->required();
   eval->add_option("--population", flags->population, "Population folder")->required();
   eval->callback([&context, flags] { context.action = [flags] { return RunEval(*flags); }; });
+
+  CLI::App* publish = basis->add_subcommand(
+      "publish", "Make a basis the tenant's current one for a population, on the coordinator");
+  AddRemoteOptions(publish, flags->remote);
+  publish->add_option("--population", flags->population_name, "Population name (\"women\")")
+      ->required();
+  auto* file = publish->add_option("--basis", flags->basis, "A basis file (.fbb) to upload");
+  auto* preset = publish->add_option("--preset", flags->preset,
+                                     "Or sample on the server: women, men or all");
+  file->excludes(preset);
+  publish->add_option("--count", flags->count, "Server sampling: avatars (default 300)");
+  publish->add_option("--seed", flags->seed, "Server sampling: seed (default 1)");
+  publish->add_option("--components", flags->components,
+                      "Server sampling: exactly this many components (default: 1 mm error)");
+  publish->callback(
+      [&context, flags] { context.action = [flags] { return RunPublish(*flags); }; });
 }
 
 }  // namespace fitbase::services

@@ -32,6 +32,9 @@ void AddGarmentCommands(CLI::App& app, CliContext& context);
 void AddDrapeCommand(CLI::App& app, CliContext& context);
 void AddClothingCommands(CLI::App& app, CliContext& context);
 void AddEvalCommand(CLI::App& app, CliContext& context);
+void AddKeysCommand(CLI::App& app, CliContext& context);
+void AddServeCommand(CLI::App& app, CliContext& context);
+void AddBuildCommands(CLI::App& app, CliContext& context);
 
 }  // namespace fitbase::services
 

@@ -17,6 +17,9 @@ int main(int argc, char** argv) {
   fitbase::services::AddDrapeCommand(app, context);
   fitbase::services::AddClothingCommands(app, context);
   fitbase::services::AddEvalCommand(app, context);
+  fitbase::services::AddKeysCommand(app, context);
+  fitbase::services::AddServeCommand(app, context);
+  fitbase::services::AddBuildCommands(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

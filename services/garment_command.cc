@@ -1,9 +1,12 @@
-// fitbase garment import: a catalogue garment, fitted to a basis's mean avatar.
+// fitbase garment import|upload: a catalogue garment, fitted to a basis's mean avatar here or
+// by the coordinator.
 #include <iostream>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "core/status_macros.h"
+#include "fitbase/v1/catalog.grpc.pb.h"
+#include "services/grpc_client.h"
 #include "proto/message_file.h"
 #include "services/cli_context.h"
 #include "services/garment_importer.h"
@@ -19,22 +22,38 @@ struct GarmentFlags {
   std::string sizes = "S,M,L,XL";
   std::vector<std::string> size_meshes;
   std::string out;
+  RemoteFlags remote;
+  std::string basis_id;
 };
 
-absl::Status RunImport(const CliContext& context, const GarmentFlags& flags) {
-  GarmentImportRequest request;
-  request.mhclo = flags.mhclo;
-  request.obj = flags.obj;
-  request.name = flags.name;
-  request.sizes = absl::StrSplit(flags.sizes, ',', absl::SkipWhitespace());
+// The files the flags name, read, with the name and sizes the flags give.
+absl::StatusOr<GarmentImportRequest> ReadRequest(const GarmentFlags& flags) {
+  GarmentImportPaths paths;
+  paths.mhclo = flags.mhclo;
+  paths.obj = flags.obj;
   for (const std::string& entry : flags.size_meshes) {
     const std::vector<std::string> parts = absl::StrSplit(entry, absl::MaxSplits('=', 1));
     if (parts.size() != 2 || parts[0].empty() || parts[1].empty()) {
       return absl::InvalidArgumentError(
           absl::StrCat("--size-mesh '", entry, "' is not SIZE=PATH"));
     }
-    request.size_meshes[parts[0]] = parts[1];
+    paths.size_meshes[parts[0]] = parts[1];
   }
+  ASSIGN_OR_RETURN(GarmentImportRequest request, ReadGarmentImportFiles(paths));
+  request.name = flags.name;
+  request.sizes = absl::StrSplit(flags.sizes, ',', absl::SkipWhitespace());
+  return request;
+}
+
+v1::SourceFile ToProto(const SourceFile& file) {
+  v1::SourceFile proto;
+  proto.set_name(file.name);
+  proto.set_content(file.bytes);
+  return proto;
+}
+
+absl::Status RunImport(const CliContext& context, const GarmentFlags& flags) {
+  ASSIGN_OR_RETURN(GarmentImportRequest request, ReadRequest(flags));
   v1::AvatarBasis basis;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.basis, &basis));
   ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(ResolveDataDir(context)));
@@ -46,6 +65,41 @@ absl::Status RunImport(const CliContext& context, const GarmentFlags& flags) {
   return absl::OkStatus();
 }
 
+absl::Status RunUpload(const GarmentFlags& flags) {
+  ASSIGN_OR_RETURN(GarmentImportRequest request, ReadRequest(flags));
+  v1::UploadGarmentRequest upload;
+  upload.set_avatar_basis_id(flags.basis_id);
+  upload.set_name(request.name);
+  *upload.mutable_obj() = ToProto(request.obj);
+  if (request.mhclo.has_value()) *upload.mutable_mhclo() = ToProto(*request.mhclo);
+  for (const std::string& size : request.sizes) upload.add_sizes(size);
+  for (const auto& [size, file] : request.size_meshes) {
+    (*upload.mutable_size_meshes())[size] = ToProto(file);
+  }
+  auto stub = v1::Catalog::NewStub(OpenChannel(flags.remote.address));
+  ASSIGN_OR_RETURN(std::unique_ptr<grpc::ClientContext> call,
+                   NewCallContext(flags.remote, absl::Seconds(flags.remote.timeout_seconds)));
+  v1::UploadGarmentResponse response;
+  RETURN_IF_ERROR(FromGrpcStatus(stub->UploadGarment(call.get(), upload, &response)));
+  std::cout << "garment " << response.garment_id() << " "
+            << (response.created() ? "stored" : "already stored") << ": "
+            << response.vertex_count() << " vertices, sizes " << flags.sizes << "\n";
+  return absl::OkStatus();
+}
+
+// The flags both commands take: the garment's files, name and sizes.
+void AddSourceOptions(CLI::App* command, GarmentFlags& flags) {
+  auto* mhclo = command->add_option("--mhclo", flags.mhclo, "MakeHuman garment binding (.mhclo)");
+  auto* obj = command->add_option("--obj", flags.obj,
+                                  "OBJ already placed on the basis's mean avatar (meters)");
+  mhclo->excludes(obj);
+  command->add_option("--name", flags.name, "Garment name (default: the file's stem)");
+  command->add_option("--sizes", flags.sizes,
+                      "Comma-separated sizes; M is the template (default: S,M,L,XL)");
+  command->add_option("--size-mesh", flags.size_meshes,
+                      "SIZE=PATH: a retailer's own rest mesh for that size (repeatable)");
+}
+
 }  // namespace
 
 void AddGarmentCommands(CLI::App& app, CliContext& context) {
@@ -54,20 +108,20 @@ void AddGarmentCommands(CLI::App& app, CliContext& context) {
   garment->require_subcommand(1);
   CLI::App* import = garment->add_subcommand(
       "import", "Import a garment and fit its template to a basis's mean avatar");
-  auto* mhclo = import->add_option("--mhclo", flags->mhclo, "MakeHuman garment binding (.mhclo)");
-  auto* obj = import->add_option("--obj", flags->obj,
-                                 "OBJ already placed on the basis's mean avatar (meters)");
-  mhclo->excludes(obj);
+  AddSourceOptions(import, *flags);
   import->add_option("--basis", flags->basis, "Avatar basis (.fbb)")->required();
-  import->add_option("--name", flags->name, "Garment name (default: the file's stem)");
-  import->add_option("--sizes", flags->sizes,
-                     "Comma-separated sizes; M is the template (default: S,M,L,XL)");
-  import->add_option("--size-mesh", flags->size_meshes,
-                     "SIZE=PATH: a retailer's own rest mesh for that size (repeatable)");
   import->add_option("--out", flags->out, "Output garment (.fbg)")->required();
   import->callback([&context, flags] {
     context.action = [&context, flags] { return RunImport(context, *flags); };
   });
+
+  CLI::App* upload = garment->add_subcommand(
+      "upload", "Upload a garment to the coordinator, which imports it for your tenant");
+  AddSourceOptions(upload, *flags);
+  AddRemoteOptions(upload, flags->remote);
+  upload->add_option("--basis-id", flags->basis_id, "Avatar basis id (stored on the coordinator)")
+      ->required();
+  upload->callback([&context, flags] { context.action = [flags] { return RunUpload(*flags); }; });
 }
 
 }  // namespace fitbase::services

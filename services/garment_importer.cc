@@ -1,8 +1,10 @@
 #include "services/garment_importer.h"
 
+#include <algorithm>
 #include <array>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
 #include "core/body_skeleton.h"
 #include "core/content_hash.h"
 #include "core/file_util.h"
@@ -68,62 +70,121 @@ absl::StatusOr<core::Mesh> MeanFullAvatar(const core::BodyModel& model,
   return mean;
 }
 
+absl::StatusOr<GarmentImportRequest> ReadGarmentImportFiles(const GarmentImportPaths& paths) {
+  if (paths.mhclo.empty() == paths.obj.empty()) {
+    return absl::InvalidArgumentError("give exactly one of --mhclo and --obj");
+  }
+  GarmentImportRequest request;
+  std::filesystem::path obj_path = paths.obj;
+  if (!paths.mhclo.empty()) {
+    SourceFile& mhclo = request.mhclo.emplace();
+    mhclo.name = paths.mhclo.string();
+    ASSIGN_OR_RETURN(mhclo.bytes, core::ReadFileToString(paths.mhclo));
+    // Parsed whole, so a bad binding is reported as such rather than as a missing OBJ.
+    ASSIGN_OR_RETURN(core::MhcloBinding binding,
+                     core::ParseMhclo(mhclo.bytes, core::kFullVertexCount, mhclo.name));
+    if (binding.obj_file.empty()) {
+      return absl::InvalidArgumentError(absl::StrCat(mhclo.name, " names no obj_file"));
+    }
+    obj_path = paths.mhclo.parent_path() / binding.obj_file;
+  }
+  request.obj.name = obj_path.string();
+  ASSIGN_OR_RETURN(request.obj.bytes, core::ReadFileToString(obj_path));
+  for (const auto& [size, path] : paths.size_meshes) {
+    SourceFile& mesh = request.size_meshes[size];
+    mesh.name = path.string();
+    ASSIGN_OR_RETURN(mesh.bytes, core::ReadFileToString(path));
+  }
+  return request;
+}
+
 absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
                                           const v1::AvatarBasis& basis,
                                           const GarmentImportRequest& request) {
-  if (request.mhclo.empty() == request.obj.empty()) {
-    return absl::InvalidArgumentError("give exactly one of --mhclo and --obj");
-  }
+  // Checked before any parsing or fitting, so a bad request fails at once.
   if (request.sizes.empty()) return absl::InvalidArgumentError("a garment needs at least one size");
-  ASSIGN_OR_RETURN(core::Mesh mean_full, MeanFullAvatar(model, basis));
-  const core::Positions mean_body = mean_full.positions.topRows(core::kBodyVertexCount);
+  for (const auto& [size, file] : request.size_meshes) {
+    if (std::find(request.sizes.begin(), request.sizes.end(), size) == request.sizes.end()) {
+      return absl::InvalidArgumentError(absl::StrCat("size mesh ", file.name, " is for size ",
+                                                     size, ", not one of the sizes ",
+                                                     absl::StrJoin(request.sizes, ",")));
+    }
+  }
 
   v1::Garment garment;
-  core::ContentHash id;
-  id.Add(kImportVersion).Add(basis.id());
-  core::GarmentMesh source;
-  core::Positions placed;
+  core::MhcloBinding binding;
+  if (request.mhclo.has_value()) {
+    ASSIGN_OR_RETURN(binding, core::ParseMhclo(request.mhclo->bytes, core::kFullVertexCount,
+                                               request.mhclo->name));
+  }
+  ASSIGN_OR_RETURN(core::GarmentMesh source,
+                   core::ParseGarmentObj(request.obj.bytes, request.obj.name));
   core::Positions rest;
-  if (!request.mhclo.empty()) {
-    ASSIGN_OR_RETURN(core::MhcloBinding binding, core::ReadMhclo(request.mhclo, core::kFullVertexCount));
-    const std::filesystem::path obj_path = request.mhclo.parent_path() / binding.obj_file;
-    ASSIGN_OR_RETURN(source, core::ReadGarmentObj(obj_path));
+  if (request.mhclo.has_value()) {
     if (source.mesh.vertex_count() != binding.vertex_count()) {
       return absl::InvalidArgumentError(absl::StrCat(
-          obj_path.string(), " has ", source.mesh.vertex_count(), " vertices but its binding ",
-          request.mhclo.string(), " binds ", binding.vertex_count()));
+          request.obj.name, " has ", source.mesh.vertex_count(), " vertices but its binding ",
+          request.mhclo->name, " binds ", binding.vertex_count()));
     }
-    placed = core::ApplyMhclo(binding, mean_full.positions);
     rest = core::kMetersPerDataUnit * source.mesh.positions;
     *garment.mutable_binding() = proto::MhcloBindingToProto(binding);
-    garment.set_name(request.name.empty() ? request.mhclo.stem().string() : request.name);
     garment.mutable_source()->set_kind("mhclo");
-    garment.mutable_source()->set_path(request.mhclo.string());
-    ASSIGN_OR_RETURN(std::string mhclo_bytes, core::ReadFileToString(request.mhclo));
-    ASSIGN_OR_RETURN(std::string obj_bytes, core::ReadFileToString(obj_path));
-    garment.mutable_source()->set_sha256(core::ContentHash().Add(obj_bytes).Add(mhclo_bytes).HexDigest());
+    garment.mutable_source()->set_sha256(
+        core::ContentHash().Add(request.obj.bytes).Add(request.mhclo->bytes).HexDigest());
   } else {
-    ASSIGN_OR_RETURN(source, core::ReadGarmentObj(request.obj));
-    placed = source.mesh.positions;
-    rest = placed;
-    const Eigen::RowVector3d extent = placed.colwise().maxCoeff() - placed.colwise().minCoeff();
+    rest = source.mesh.positions;
+    const Eigen::RowVector3d extent = rest.colwise().maxCoeff() - rest.colwise().minCoeff();
     if (extent.maxCoeff() > kMaxGarmentExtent) {
       return absl::InvalidArgumentError(absl::StrCat(
-          request.obj.string(), " spans ", extent.maxCoeff(),
+          request.obj.name, " spans ", extent.maxCoeff(),
           " units; a garment placed on the mean avatar is given in meters"));
     }
-    garment.set_name(request.name.empty() ? request.obj.stem().string() : request.name);
     garment.mutable_source()->set_kind("obj");
-    garment.mutable_source()->set_path(request.obj.string());
-    ASSIGN_OR_RETURN(std::string obj_bytes, core::ReadFileToString(request.obj));
-    garment.mutable_source()->set_sha256(core::ContentHash().Add(obj_bytes).HexDigest());
+    garment.mutable_source()->set_sha256(core::ContentHash().Add(request.obj.bytes).HexDigest());
   }
-  id.Add(garment.source().sha256());
+  const std::string& source_name = request.mhclo.has_value() ? request.mhclo->name
+                                                             : request.obj.name;
+  garment.mutable_source()->set_path(source_name);
+  garment.set_name(request.name.empty() ? std::filesystem::path(source_name).stem().string()
+                                        : request.name);
+  if (garment.name().empty()) {
+    return absl::InvalidArgumentError("the garment has no name: give one, or name its file");
+  }
+  source.mesh.topology_id = absl::StrCat("garment-", garment.name());
 
+  core::ContentHash id;
+  id.Add(kImportVersion).Add(basis.id()).Add(garment.source().sha256());
+  for (const std::string& size : request.sizes) {
+    v1::GarmentSize* s = garment.add_sizes();
+    s->set_name(size);
+    const auto mesh_file = request.size_meshes.find(size);
+    if (mesh_file != request.size_meshes.end()) {
+      const SourceFile& file = mesh_file->second;
+      ASSIGN_OR_RETURN(core::GarmentMesh size_mesh, core::ParseGarmentObj(file.bytes, file.name));
+      if (size_mesh.mesh.vertex_count() != source.mesh.vertex_count() ||
+          size_mesh.mesh.faces != source.mesh.faces) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            "size ", size, " mesh ", file.name, " does not have the garment's topology (",
+            source.mesh.vertex_count(), " vertices)"));
+      }
+      size_mesh.mesh.topology_id = source.mesh.topology_id;
+      *s->mutable_rest() = proto::MeshToProto(size_mesh.mesh);
+      id.Add(size).Add(file.bytes);
+    } else {
+      ASSIGN_OR_RETURN(int step, GradingStep(size));
+      s->set_grading_step(step);
+      id.Add(size).Add(int64_t{step});
+    }
+  }
+  garment.set_id(id.HexDigest());
+
+  ASSIGN_OR_RETURN(core::Mesh mean_full, MeanFullAvatar(model, basis));
+  const core::Positions mean_body = mean_full.positions.topRows(core::kBodyVertexCount);
+  const core::Positions placed =
+      request.mhclo.has_value() ? core::ApplyMhclo(binding, mean_full.positions) : rest;
   ASSIGN_OR_RETURN(core::Positions template_positions,
                    workers::FitTemplateToBody(placed, rest, source.mesh.faces, mean_body,
                                               core::Triangulate(model.body_faces())));
-  source.mesh.topology_id = absl::StrCat("garment-", garment.name());
   source.mesh.positions = rest;
   *garment.mutable_rest_mesh() = proto::MeshToProto(source.mesh);
   source.mesh.positions = template_positions;
@@ -146,36 +207,6 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
     for (int k = 0; k < 3; ++k) garment.add_length_axes(static_cast<float>(axis(k)));
     garment.add_vertex_regions(static_cast<uint32_t>(bone.region));
   }
-
-  for (const std::string& size : request.sizes) {
-    v1::GarmentSize* s = garment.add_sizes();
-    s->set_name(size);
-    const auto mesh_path = request.size_meshes.find(size);
-    if (mesh_path != request.size_meshes.end()) {
-      ASSIGN_OR_RETURN(core::GarmentMesh size_mesh, core::ReadGarmentObj(mesh_path->second));
-      if (size_mesh.mesh.vertex_count() != source.mesh.vertex_count() ||
-          size_mesh.mesh.faces != source.mesh.faces) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "size ", size, " mesh ", mesh_path->second.string(),
-            " does not have the garment's topology (", source.mesh.vertex_count(), " vertices)"));
-      }
-      size_mesh.mesh.topology_id = source.mesh.topology_id;
-      *s->mutable_rest() = proto::MeshToProto(size_mesh.mesh);
-      ASSIGN_OR_RETURN(std::string bytes, core::ReadFileToString(mesh_path->second));
-      id.Add(size).Add(bytes);
-    } else {
-      ASSIGN_OR_RETURN(int step, GradingStep(size));
-      s->set_grading_step(step);
-      id.Add(size).Add(int64_t{step});
-    }
-  }
-  for (const auto& [size, path] : request.size_meshes) {
-    if (std::find(request.sizes.begin(), request.sizes.end(), size) == request.sizes.end()) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("size mesh ", path.string(), " is for size ", size, ", not in --sizes"));
-    }
-  }
-  garment.set_id(id.HexDigest());
   return garment;
 }
 

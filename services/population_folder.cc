@@ -81,6 +81,28 @@ absl::Status WritePopulationFolder(const core::BodyModel& model, core::Populatio
   return core::WriteFileAtomically(dir / kProvenanceFile, proto::ToJson(provenance) + "\n");
 }
 
+absl::StatusOr<Population> SamplePopulation(const core::BodyModel& model,
+                                            core::PopulationPreset preset, uint64_t seed,
+                                            int64_t count) {
+  if (count < 2) {
+    return absl::InvalidArgumentError(absl::StrCat("count ", count, ": a basis needs at least 2"));
+  }
+  Population population;
+  population.provenance.set_preset(std::string(core::PopulationPresetName(preset)));
+  population.provenance.set_seed(seed);
+  population.provenance.set_count(static_cast<uint32_t>(count));
+  population.samples.resize(3 * core::kBodyVertexCount, count);
+  for (int64_t i = 0; i < count; ++i) {
+    const core::BodyParams params = core::SampleBodyParams(preset, seed, static_cast<uint64_t>(i));
+    ASSIGN_OR_RETURN(core::Mesh body, model.BuildBody(params));
+    population.samples.col(i) =
+        Eigen::Map<const Eigen::VectorXd>(body.positions.data(), body.positions.size());
+    if (i == 0) population.faces = std::move(body.faces);
+    *population.provenance.add_params() = proto::BodyParamsToProto(params);
+  }
+  return population;
+}
+
 absl::StatusOr<Population> ReadPopulationFolder(const std::filesystem::path& dir) {
   if (!std::filesystem::is_directory(dir)) {
     return absl::NotFoundError(absl::StrCat("no population folder ", dir.string()));

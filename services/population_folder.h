@@ -32,6 +32,12 @@ struct Population {
   core::PolygonFaces faces;
 };
 
+// The population WritePopulationFolder would write, in memory and without rounding the
+// avatars to the folder's OBJ precision (so its basis id differs from the folder's).
+absl::StatusOr<Population> SamplePopulation(const core::BodyModel& model,
+                                            core::PopulationPreset preset, uint64_t seed,
+                                            int64_t count);
+
 // Reads and validates every avatar of the folder (vertex counts, finiteness, units).
 absl::StatusOr<Population> ReadPopulationFolder(const std::filesystem::path& dir);
 

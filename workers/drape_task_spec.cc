@@ -1,0 +1,130 @@
+#include "workers/drape_task_spec.h"
+
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "core/body_model.h"
+#include "core/status_macros.h"
+
+namespace fitbase::workers {
+namespace {
+
+// Bounds that keep a malformed spec from making a worker run for hours or allocate without
+// limit; real schedules are a few dozen steps.
+constexpr uint32_t kMaxSubsteps = 1000;
+constexpr uint32_t kMaxScheduleSteps = 100000;
+
+absl::Status CheckPositive(const char* name, double value) {
+  if (!std::isfinite(value) || value <= 0) {
+    return absl::InvalidArgumentError(absl::StrCat("drape setting ", name, " = ", value,
+                                                   " must be finite and positive"));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status CheckNonNegative(const char* name, double value) {
+  if (!std::isfinite(value) || value < 0) {
+    return absl::InvalidArgumentError(absl::StrCat("drape setting ", name, " = ", value,
+                                                   " must be finite and not negative"));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status CheckCount(const char* name, uint32_t value, uint32_t low, uint32_t high) {
+  if (value < low || value > high) {
+    return absl::InvalidArgumentError(absl::StrCat("drape setting ", name, " = ", value,
+                                                   " is outside [", low, ", ", high, "]"));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedule& schedule) {
+  v1::DrapeSettings proto;
+  proto.set_step_seconds(s.step_seconds);
+  proto.set_substeps(static_cast<uint32_t>(s.substeps));
+  proto.set_gravity(s.gravity);
+  proto.set_areal_density(s.areal_density);
+  proto.set_stretch_compliance(s.stretch_compliance);
+  proto.set_bend_compliance(s.bend_compliance);
+  proto.set_anchor_compliance(s.anchor_compliance);
+  proto.set_damping(s.damping);
+  proto.set_collision_offset(s.collision_offset);
+  proto.set_collision_search(s.collision_search);
+  proto.set_friction(s.friction);
+  proto.set_homotopy_steps(static_cast<uint32_t>(schedule.homotopy_steps));
+  proto.set_relax_steps(static_cast<uint32_t>(schedule.relax_steps));
+  return proto;
+}
+
+absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* settings,
+                                    DrapeSchedule* schedule) {
+  RETURN_IF_ERROR(CheckPositive("step_seconds", p.step_seconds()));
+  RETURN_IF_ERROR(CheckCount("substeps", p.substeps(), 1, kMaxSubsteps));
+  RETURN_IF_ERROR(CheckNonNegative("gravity", p.gravity()));
+  RETURN_IF_ERROR(CheckPositive("areal_density", p.areal_density()));
+  RETURN_IF_ERROR(CheckNonNegative("stretch_compliance", p.stretch_compliance()));
+  RETURN_IF_ERROR(CheckNonNegative("bend_compliance", p.bend_compliance()));
+  RETURN_IF_ERROR(CheckNonNegative("anchor_compliance", p.anchor_compliance()));
+  RETURN_IF_ERROR(CheckNonNegative("damping", p.damping()));
+  RETURN_IF_ERROR(CheckNonNegative("collision_offset", p.collision_offset()));
+  RETURN_IF_ERROR(CheckPositive("collision_search", p.collision_search()));
+  RETURN_IF_ERROR(CheckNonNegative("friction", p.friction()));
+  RETURN_IF_ERROR(CheckCount("homotopy_steps", p.homotopy_steps(), 1, kMaxScheduleSteps));
+  RETURN_IF_ERROR(CheckCount("relax_steps", p.relax_steps(), 0, kMaxScheduleSteps));
+  *settings = ClothSettings{.step_seconds = p.step_seconds(),
+                            .substeps = static_cast<int>(p.substeps()),
+                            .gravity = p.gravity(),
+                            .areal_density = p.areal_density(),
+                            .stretch_compliance = p.stretch_compliance(),
+                            .bend_compliance = p.bend_compliance(),
+                            .anchor_compliance = p.anchor_compliance(),
+                            .damping = p.damping(),
+                            .collision_offset = p.collision_offset(),
+                            .collision_search = p.collision_search(),
+                            .friction = p.friction()};
+  *schedule = DrapeSchedule{.homotopy_steps = static_cast<int>(p.homotopy_steps()),
+                            .relax_steps = static_cast<int>(p.relax_steps())};
+  return absl::OkStatus();
+}
+
+v1::DrapeTaskSpec DrapeTaskToSpec(const DrapeTask& task) {
+  v1::DrapeTaskSpec spec;
+  spec.set_key(task.key);
+  *spec.mutable_garment() = *task.garment;
+  spec.set_size(task.size);
+  auto* body = spec.mutable_body();
+  body->Reserve(static_cast<int>(task.body.size()));
+  for (double value : task.body.reshaped<Eigen::RowMajor>()) {
+    body->AddAlreadyReserved(static_cast<float>(value));
+  }
+  *spec.mutable_settings() = DrapeSettingsToProto(task.settings, task.schedule);
+  return spec;
+}
+
+absl::StatusOr<DrapeTask> DrapeTaskFromSpec(const v1::DrapeTaskSpec& spec) {
+  if (spec.body_size() != 3 * core::kBodyVertexCount) {
+    return absl::InvalidArgumentError(absl::StrCat("task ", spec.key(), ": the body has ",
+                                                   spec.body_size(), " coordinates; expected ",
+                                                   3 * core::kBodyVertexCount));
+  }
+  const core::Positions body =
+      Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+          spec.body().data(), core::kBodyVertexCount, 3)
+          .cast<double>();
+  if (!body.allFinite()) {
+    return absl::InvalidArgumentError(absl::StrCat("task ", spec.key(), ": non-finite body"));
+  }
+  ClothSettings settings;
+  DrapeSchedule schedule;
+  RETURN_IF_ERROR(DrapeSettingsFromProto(spec.settings(), &settings, &schedule));
+  DrapeTask task = MakeDrapeTask(spec.garment(), spec.size(), body, settings, schedule);
+  if (task.key != spec.key()) {
+    return absl::InvalidArgumentError(absl::StrCat("task ", spec.key(),
+                                                   ": its content hashes to ", task.key));
+  }
+  return task;
+}
+
+}  // namespace fitbase::workers

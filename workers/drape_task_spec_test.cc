@@ -1,0 +1,74 @@
+#include "workers/drape_task_spec.h"
+
+#include <cmath>
+#include <limits>
+
+#include "core/body_model.h"
+#include "core/test_support.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+
+namespace fitbase::workers {
+namespace {
+
+class DrapeTaskSpecTest : public ::testing::Test {
+ protected:
+  DrapeTaskSpecTest() {
+    garment_.set_id("garment-1");
+    body_ = core::Positions(core::kBodyVertexCount, 3);
+    for (Eigen::Index i = 0; i < body_.size(); ++i) body_.data()[i] = std::sin(0.1 * i);
+  }
+  v1::Garment garment_;
+  core::Positions body_;
+};
+
+TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
+  ClothSettings settings;
+  settings.friction = 0.3;
+  const DrapeTask task = MakeDrapeTask(garment_, "XL", body_, settings, {7, 9});
+  const v1::DrapeTaskSpec spec = DrapeTaskToSpec(task);
+  absl::StatusOr<DrapeTask> parsed = DrapeTaskFromSpec(spec);
+  ASSERT_TRUE(parsed.ok()) << parsed.status();
+  const DrapeTask& back = *parsed;
+  EXPECT_EQ(back.key, task.key);
+  EXPECT_EQ(back.size, "XL");
+  EXPECT_EQ(back.garment, &spec.garment());
+  EXPECT_EQ(back.body, task.body);
+  EXPECT_EQ(back.settings.friction, 0.3);
+  EXPECT_EQ(back.schedule.homotopy_steps, 7);
+  EXPECT_EQ(back.schedule.relax_steps, 9);
+}
+
+TEST_F(DrapeTaskSpecTest, RefusesASpecWhoseContentDoesNotHashToItsKey) {
+  v1::DrapeTaskSpec spec = DrapeTaskToSpec(MakeDrapeTask(garment_, "M", body_));
+  spec.set_body(100, spec.body(100) + 0.01f);
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "hashes to"));
+}
+
+TEST_F(DrapeTaskSpecTest, RefusesBadBodiesAndSettingsNamingTheProblem) {
+  const v1::DrapeTaskSpec good = DrapeTaskToSpec(MakeDrapeTask(garment_, "M", body_));
+  v1::DrapeTaskSpec spec = good;
+  spec.mutable_body()->RemoveLast();
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "40139 coordinates"));
+  spec = good;
+  spec.set_body(5, std::numeric_limits<float>::quiet_NaN());
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "non-finite"));
+  spec = good;
+  spec.mutable_settings()->set_step_seconds(std::numeric_limits<double>::infinity());
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "step_seconds"));
+  spec = good;
+  spec.mutable_settings()->set_substeps(0);
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "substeps"));
+  spec = good;
+  spec.mutable_settings()->set_relax_steps(1000000);
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "relax_steps"));
+}
+
+}  // namespace
+}  // namespace fitbase::workers
