@@ -108,10 +108,13 @@ int Main(int argc, char** argv) {
       imported.push_back(garment);
       continue;
     }
-    services::GarmentImportRequest request;
-    request.mhclo = std::filesystem::path(data) / "clothes" / name / (name + ".mhclo");
-    request.sizes = size_list;
-    auto result = services::ImportGarment(*model, basis, request);
+    services::GarmentImportPaths paths;
+    paths.mhclo = std::filesystem::path(data) / "clothes" / name / (name + ".mhclo");
+    absl::StatusOr<services::GarmentImportRequest> request =
+        services::ReadGarmentImportFiles(paths);
+    if (request.ok()) request->sizes = size_list;
+    absl::StatusOr<v1::Garment> result =
+        request.ok() ? services::ImportGarment(*model, basis, *request) : request.status();
     if (!result.ok()) {
       std::cerr << name << ": " << result.status().message() << "\n";
       return 1;

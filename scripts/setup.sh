@@ -2,9 +2,16 @@
 # Prepares this checkout on a Debian (bookworm) machine: installs the Debian packages fitbase
 # needs (skipping those already installed), makes the MakeHuman data available in data/, and
 # builds Release into build/. Safe to run again: each step only does what is missing.
+# --packages-only stops after the packages (deploy/Dockerfile's build stage uses it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
+packages_only=false
+case "${1:-}" in
+  "") ;;
+  --packages-only) packages_only=true ;;
+  *) echo "usage: scripts/setup.sh [--packages-only]" >&2; exit 2 ;;
+esac
 
 packages=(
   cmake ninja-build g++ pkg-config ca-certificates curl
@@ -23,6 +30,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get update -q
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
+if $packages_only; then exit 0; fi
 
 # MakeHuman data (CC0), never committed: a link to ../shared/data/makehuman beside the checkout
 # when there is one, else the pinned upstream files. scripts/makehuman_manifest.sha256 pins

@@ -82,7 +82,7 @@ void CoordinatorServer::Shutdown(absl::Duration grace) {
     server_->Shutdown(absl::ToChronoTime(absl::Now() + grace));
   }
   if (reaper_.joinable()) reaper_.join();
-  core::LogLine("coordinator_stopped").Add("port", port_);
+  if (server_ != nullptr) core::LogLine("coordinator_stopped").Add("port", port_);
 }
 
 CoordinatorServer::~CoordinatorServer() { Shutdown(absl::Seconds(5)); }

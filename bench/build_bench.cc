@@ -1,0 +1,206 @@
+// The distributed build's scaling on this machine:
+//   fitbase_build_bench --data DIR [--garment female_sportsuit01] [--components 10]
+//                       [--max-workers 2] [--homotopy-steps 30] [--relax-steps 60]
+// Builds one garment's size M (2N + 1 drapes) through a real coordinator on 127.0.0.1 with
+// 1, then 2, ... workers (one slot each, in this process), each run on a fresh store so no
+// drape is a cache hit, and prints per run the wall time of the drapes, the speed-up over one
+// worker, and the coordinator's overhead per task: the time a worker spends per task outside
+// its drape (lease, spec transfer, completion, synced store writes), against the drape time.
+#include <filesystem>
+#include <iostream>
+#include <thread>
+
+#include "CLI/CLI.hpp"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/time/clock.h"
+#include "core/body_model.h"
+#include "core/file_util.h"
+#include "core/status_macros.h"
+#include "fitbase/v1/coordinator.grpc.pb.h"
+#include "proto/message_file.h"
+#include "services/avatar_basis_builder.h"
+#include "services/call_auth.h"
+#include "services/coordinator_server.h"
+#include "services/garment_importer.h"
+#include "services/grpc_client.h"
+#include "services/population_folder.h"
+#include "services/progress_reporter.h"
+#include "workers/drape_worker.h"
+
+namespace fitbase {
+namespace {
+
+constexpr char kAdminKey[] = "fb_bench_admin";
+constexpr char kWorkerKey[] = "fb_bench_worker";
+
+struct Flags {
+  std::string data = "data/makehuman";
+  std::string garment = "female_sportsuit01";
+  int components = 10;
+  int max_workers = 2;
+  int homotopy_steps = 30;
+  int relax_steps = 60;
+};
+
+struct Run {
+  int workers = 0;
+  double drape_wall_seconds = 0;  // Submit to the last drape stored.
+  double total_seconds = 0;       // Submit to publication.
+  double drape_seconds = 0;       // Sum of the drapes' own times.
+  int tasks = 0;
+};
+
+absl::StatusOr<Run> BuildWith(int worker_count, const Flags& flags, const v1::AvatarBasis& basis,
+                              const v1::Garment& garment, const std::filesystem::path& db) {
+  std::filesystem::remove_all(db);
+  services::CoordinatorServerOptions options;
+  options.db = db;
+  options.listen = "127.0.0.1:0";
+  options.data_dir = flags.data;
+  options.keys.AddKey(kAdminKey, {"bench", services::Role::kAdmin});
+  options.keys.AddKey(kWorkerKey, {"bench", services::Role::kWorker});
+  auto server = services::CoordinatorServer::Start(std::move(options));
+  if (!server.ok()) return server.status();
+  storage::AssetStore& store = (*server)->store();
+  if (absl::Status s = store.PublishAvatarBasis("bench", "women", basis.id(),
+                                                proto::SerializeDeterministically(basis));
+      !s.ok()) {
+    return s;
+  }
+  if (absl::Status s =
+          store.PutGarment("bench", garment.id(), proto::SerializeDeterministically(garment));
+      !s.ok()) {
+    return s;
+  }
+  const std::string address = absl::StrCat("127.0.0.1:", (*server)->port());
+  std::vector<std::unique_ptr<workers::DrapeWorker>> pool;
+  std::vector<std::thread> threads;
+  for (int i = 0; i < worker_count; ++i) {
+    workers::DrapeWorkerOptions worker;
+    worker.coordinator = address;
+    worker.api_key = kWorkerKey;
+    worker.name = absl::StrCat("bench-", i);
+    pool.push_back(std::make_unique<workers::DrapeWorker>(worker));
+    threads.emplace_back([w = pool.back().get()] { w->Run(); });
+  }
+  auto stub = v1::Coordinator::NewStub(services::OpenChannel(address));
+  v1::SubmitBuildRequest request;
+  request.mutable_request()->set_garment_id(garment.id());
+  request.mutable_request()->add_sizes("M");
+  request.mutable_request()->set_homotopy_steps(static_cast<uint32_t>(flags.homotopy_steps));
+  request.mutable_request()->set_relax_steps(static_cast<uint32_t>(flags.relax_steps));
+  grpc::ClientContext submit_context;
+  services::AddApiKey(submit_context, kAdminKey);
+  submit_context.set_deadline(absl::ToChronoTime(absl::Now() + absl::Seconds(60)));
+  v1::Build build;
+  const absl::Time start = absl::Now();
+  if (grpc::Status s = stub->SubmitBuild(&submit_context, request, &build); !s.ok()) {
+    return absl::InternalError(s.error_message());
+  }
+  Run run{.workers = worker_count, .tasks = static_cast<int>(build.tasks_total())};
+  grpc::ClientContext watch_context;
+  services::AddApiKey(watch_context, kAdminKey);
+  watch_context.set_deadline(absl::ToChronoTime(absl::Now() + absl::Hours(2)));
+  v1::GetBuildRequest watch;
+  watch.set_build_id(build.build_id());
+  auto reader = stub->WatchBuild(&watch_context, watch);
+  services::ProgressReporter progress(absl::StrCat(worker_count, " worker(s): drapes"),
+                                      run.tasks, std::cerr, services::StderrIsTerminal());
+  while (reader->Read(&build)) {
+    progress.Update(build.tasks_done());
+    if (run.drape_wall_seconds == 0 && build.tasks_done() == build.tasks_total()) {
+      run.drape_wall_seconds = absl::ToDoubleSeconds(absl::Now() - start);
+    }
+  }
+  progress.Finish();
+  run.total_seconds = absl::ToDoubleSeconds(absl::Now() - start);
+  reader->Finish();
+  if (build.phase() != v1::BUILD_SUCCEEDED) {
+    return absl::InternalError(absl::StrCat("build ended ", v1::BuildPhase_Name(build.phase()),
+                                            ": ", build.error()));
+  }
+  v1::GetBuildRequest get;
+  get.set_build_id(build.build_id());
+  get.set_with_tasks(true);
+  grpc::ClientContext get_context;
+  services::AddApiKey(get_context, kAdminKey);
+  get_context.set_deadline(absl::ToChronoTime(absl::Now() + absl::Seconds(60)));
+  v1::GetBuildResponse tasks;
+  stub->GetBuild(&get_context, get, &tasks);
+  for (const v1::Task& task : tasks.tasks()) {
+    v1::DrapeResult result;
+    auto bytes = store.GetDrapeResult(task.drape_key());
+    if (bytes.ok() && result.ParseFromString(*bytes)) run.drape_seconds += result.report().seconds();
+  }
+  for (auto& worker : pool) worker->Drain();
+  for (std::thread& thread : threads) thread.join();
+  (*server)->Shutdown(absl::Seconds(1));
+  return run;
+}
+
+absl::Status Main(const Flags& flags) {
+  ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(flags.data));
+  std::cerr << "avatar basis of 60 women with " << flags.components << " components...\n";
+  ASSIGN_OR_RETURN(services::Population population,
+                   services::SamplePopulation(model, core::PopulationPreset::kWomen, 1, 60));
+  core::ComponentSelection selection;
+  selection.rule = core::ComponentSelection::Rule::kCount;
+  selection.count = flags.components;
+  ASSIGN_OR_RETURN(v1::AvatarBasis basis, services::BuildAvatarBasis(population, selection));
+  const std::filesystem::path dir = std::filesystem::path(flags.data) / "clothes" / flags.garment;
+  ASSIGN_OR_RETURN(services::GarmentImportRequest import,
+                   services::ReadGarmentImportFiles(
+                       {.mhclo = dir / (flags.garment + ".mhclo"), .obj = {}, .size_meshes = {}}));
+  import.sizes = {"M"};
+  ASSIGN_OR_RETURN(v1::Garment garment, services::ImportGarment(model, basis, import));
+  const std::filesystem::path scratch =
+      std::filesystem::temp_directory_path() / absl::StrCat("fitbase-build-bench-", getpid());
+  std::filesystem::create_directories(scratch);
+  std::vector<Run> runs;
+  for (int workers = 1; workers <= flags.max_workers; ++workers) {
+    ASSIGN_OR_RETURN(Run run, BuildWith(workers, flags, basis, garment,
+                                        scratch / absl::StrCat("db-", workers)));
+    runs.push_back(run);
+  }
+  std::filesystem::remove_all(scratch);
+
+  std::cout << absl::StrFormat(
+      "build of %s size M: %d drapes (N = %d), %d vertices, schedule %d + %d steps, %u cores\n\n",
+      flags.garment, runs[0].tasks, flags.components, garment.template_mesh().vertex_count(),
+      flags.homotopy_steps, flags.relax_steps, std::thread::hardware_concurrency());
+  std::cout << "| workers | drapes wall s | with assembly s | mean drape s | speed-up | "
+               "overhead per task ms | overhead / drape |\n|---|---|---|---|---|---|---|\n";
+  for (const Run& run : runs) {
+    const double mean_drape = run.drape_seconds / run.tasks;
+    // Worker time per task not spent draping: slots x wall time, less the drapes, per task.
+    const double overhead = (run.workers * run.drape_wall_seconds - run.drape_seconds) / run.tasks;
+    std::cout << absl::StrFormat("| %d | %.2f | %.2f | %.3f | %.2f | %.1f | %.2f%% |\n",
+                                 run.workers, run.drape_wall_seconds, run.total_seconds,
+                                 mean_drape, runs[0].drape_wall_seconds / run.drape_wall_seconds,
+                                 1e3 * overhead, 100 * overhead / mean_drape);
+  }
+  std::cout << "\nWith several workers the overhead also holds the idle tail: the last drapes "
+               "run while other workers have nothing left.\n";
+  return absl::OkStatus();
+}
+
+}  // namespace
+}  // namespace fitbase
+
+int main(int argc, char** argv) {
+  CLI::App app{"fitbase distributed build scaling"};
+  fitbase::Flags flags;
+  app.add_option("--data", flags.data, "MakeHuman data folder");
+  app.add_option("--garment", flags.garment, "Garment folder name under clothes/");
+  app.add_option("--components", flags.components, "Avatar components N (2N + 1 drapes)");
+  app.add_option("--max-workers", flags.max_workers, "Runs with 1..this many workers");
+  app.add_option("--homotopy-steps", flags.homotopy_steps, "Drape schedule");
+  app.add_option("--relax-steps", flags.relax_steps, "Drape schedule");
+  CLI11_PARSE(app, argc, argv);
+  if (const absl::Status status = fitbase::Main(flags); !status.ok()) {
+    std::cerr << "fitbase_build_bench: " << status << "\n";
+    return 1;
+  }
+  return 0;
+}
