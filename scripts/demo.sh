@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The main job, embedded on one machine: sets up, then builds avatar populations and PCA
-# avatar bases for each preset, measures how well held-out avatars reconstruct, builds the
-# clothing bases of a women's and a men's garment in two sizes, fits them to held-out
-# customers with the accuracy table against the physics drape, and drapes a shared garment in
-# three sizes onto a held-out customer.
+# avatar bases for each preset and measures how well held-out avatars reconstruct; runs the
+# whole stack (coordinator, two workers, fit service) to build the clothing bases of a women's
+# and a men's garment in two sizes and serve a customer's calls over gRPC; and drapes a shared
+# garment in three sizes onto a held-out customer.
 # Everything it writes lands in demo-out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,28 +34,63 @@ for sigma in -1 1; do
     --out "$out/all/example-pc0-${sigma}sigma.obj" > /dev/null
 done
 
-# The clothing bases and the online fit: a women's and a men's garment, each imported on its
-# population's basis, in two sizes; each fitted to three held-out customers of that population,
-# and the accuracy table of every method against the physics drape on five held-out customers.
-# Example drapes are cached by content key in $out/drapes, so the table reuses them.
+# The production stack, embedded: coordinator, two drape workers and the fit service in one
+# process (`serve --role all`) over a RocksDB store in $out/store. The avatar bases and two
+# garments (a women's and a men's, sizes M and XL) go in through the catalogue RPCs, their
+# clothing bases are built by the workers through the coordinator, and a shop's customer calls
+# come last: project an avatar, fit a garment (Draco), fit an outfit (every size).
+keys="$out/api-keys"
+admin_key=$("$fitbase" keys add --file "$keys" --tenant demo --role admin 2>/dev/null)
+shop_key=$("$fitbase" keys add --file "$keys" --tenant demo --role customer 2>/dev/null)
+mkfifo "$out/serve.fifo"
+"$fitbase" serve --role all --db "$out/store" --listen 127.0.0.1:0 --fit-listen 127.0.0.1:0 \
+  --api-keys "$keys" --workers 2 > "$out/serve.fifo" 2> "$out/serve.log" &
+serve_pid=$!
+trap 'kill "$serve_pid" 2>/dev/null || true' EXIT
+exec 3< "$out/serve.fifo"
+read -r _ coordinator <&3
+read -r _ fit <&3
+echo "== stack: coordinator $coordinator, fit service $fit (logs: $out/serve.log)"
+
 declare -A garment_of=([women]=female_casualsuit01 [men]=male_casualsuit02)
+declare -A garment_id build_id
+export FITBASE_API_KEY=$admin_key
 for preset in women men; do
   g=${garment_of[$preset]}
-  basis="$out/$preset/avatars.fbb"
-  "$fitbase" garment import --mhclo "data/makehuman/clothes/$g/$g.mhclo" --basis "$basis" \
-    --sizes M,XL --out "$out/$preset/$g.fbg"
-  for size in M XL; do
-    "$fitbase" clothing build --basis "$basis" --garment "$out/$preset/$g.fbg" --size "$size" \
-      --method linear --cache "$out/drapes" --out "$out/$preset/$g-$size.fbc"
-    for customer in 0 1 2; do
-      "$fitbase" fit --clothing "$out/$preset/$g-$size.fbc" --basis "$basis" \
-        --avatar "$out/$preset/holdout/avatar-0000$customer.obj" \
-        --out "$out/$preset/fit-$g-$size-customer$customer.obj" | tee -a "$out/fits.txt"
-    done
-  done
-  "$fitbase" eval --basis "$basis" --garment "$out/$preset/$g.fbg" --size M --holdout 5 --seed 2 \
-    --cache "$out/drapes" --out "$out/$preset/accuracy" > /dev/null
+  "$fitbase" basis publish --coordinator "$coordinator" --population "$preset" \
+    --basis "$out/$preset/avatars.fbb"
+  basis_id=$("$fitbase" basis info "$out/$preset/avatars.fbb" | awk '/^id/{print $2}')
+  garment_id[$preset]=$("$fitbase" garment upload --coordinator "$coordinator" \
+    --mhclo "data/makehuman/clothes/$g/$g.mhclo" --basis-id "$basis_id" --sizes M,XL |
+    tee -a "$out/catalogue.txt" | awk '/^garment/{print $2}')
+  build_id[$preset]=$("$fitbase" build submit --coordinator "$coordinator" \
+    --garment "${garment_id[$preset]}" --sizes M,XL --methods linear | awk '{print $1; exit}')
 done
+for preset in women men; do
+  "$fitbase" build watch --coordinator "$coordinator" "${build_id[$preset]}" | tee -a "$out/builds.txt"
+done
+
+export FITBASE_API_KEY=$shop_key
+mkdir -p "$out/customer"
+for preset in women men; do
+  g=${garment_of[$preset]}
+  c="$out/customer/$preset"
+  cp "$out/$preset/holdout/avatar-00000.obj" "$c-avatar.obj"
+  {
+    echo "== $preset customer (held-out avatar 0): $g"
+    "$fitbase" customer project --server "$fit" --avatar "$c-avatar.obj" --population "$preset" \
+      --draco --out "$c-weights.json"
+    for size in M XL; do
+      "$fitbase" customer fit --server "$fit" --weights "$c-weights.json" \
+        --garment "${garment_id[$preset]}" --size "$size" --out "$c-$g-$size.obj"
+    done
+    "$fitbase" customer outfit --server "$fit" --weights "$c-weights.json" \
+      --garments "${garment_id[$preset]}" --out "$c-outfit"
+  } | tee -a "$out/customer/summary.txt"
+done
+kill "$serve_pid"
+wait "$serve_pid" || true
+trap - EXIT
 
 # The offline fitter: one shared garment, imported onto the `all` basis's mean avatar and
 # draped in three sizes onto a held-out customer, next to the geometric baseline.
@@ -86,13 +121,12 @@ done
 echo
 echo "== Drapes of $garment on $customer (see $out/drapes.txt)"
 grep -E "^(drape|geometric)" "$out/drapes.txt" | sed -E 's/ \([^)]*\.obj\)//'
-for preset in women men; do
-  echo
-  echo "== Fast fit vs physics drape, ${garment_of[$preset]} size M, 5 held-out $preset (see $out/$preset/accuracy/report.md)"
-  sed -n '/^## All/,$p' "$out/$preset/accuracy/report.md" | tail -n +3
-done
+echo
+echo "== Builds through the coordinator (see $out/builds.txt) and the customer's calls over gRPC"
+grep -E "BUILD_|published" "$out/builds.txt"
+cat "$out/customer/summary.txt"
 echo
 echo "Outputs in $out/: populations (OBJ + params.jsonl), bases (*.fbb), all/customer-weights.json,"
 echo "all/example-pc0-*.obj, $garment.fbg, customer.obj and its drapes $garment-{S,M,XL,geometric}.obj (+ .json reports);"
-echo "per population: the garment (.fbg), its clothing bases (.fbc, sizes M and XL), fitted garments"
-echo "fit-*-customer*.obj for held-out avatars 0-2 (beside them in */holdout/), accuracy/report.{md,json}"
+echo "store/ (avatar bases, garments, drapes, clothing bases, builds), api-keys, serve.log;"
+echo "customer/: per population the avatar, its weights, the fitted garments (M, XL), the outfit, summary.txt"

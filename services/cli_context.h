@@ -35,6 +35,8 @@ void AddEvalCommand(CLI::App& app, CliContext& context);
 void AddKeysCommand(CLI::App& app, CliContext& context);
 void AddServeCommand(CLI::App& app, CliContext& context);
 void AddBuildCommands(CLI::App& app, CliContext& context);
+void AddCustomerCommands(CLI::App& app, CliContext& context);
+void AddLoadtestCommand(CLI::App& app, CliContext& context);
 
 }  // namespace fitbase::services
 

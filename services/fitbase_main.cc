@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   fitbase::services::AddKeysCommand(app, context);
   fitbase::services::AddServeCommand(app, context);
   fitbase::services::AddBuildCommands(app, context);
+  fitbase::services::AddCustomerCommands(app, context);
+  fitbase::services::AddLoadtestCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -18,9 +18,9 @@ std::string ListenAddress(absl::string_view listen) {
   return std::string(listen);
 }
 
-void AddRemoteOptions(CLI::App* command, RemoteFlags& flags) {
-  command->add_option("--coordinator", flags.address,
-                      "The coordinator's host:port (default 127.0.0.1:7401)");
+void AddRemoteOptions(CLI::App* command, RemoteFlags& flags, const std::string& server_flag) {
+  command->add_option(server_flag, flags.address,
+                      absl::StrCat("The server's host:port (default ", flags.address, ")"));
   command->add_option("--api-key-file", flags.api_key_file,
                       "File holding the API key (default: $FITBASE_API_KEY)");
   command->add_option("--timeout", flags.timeout_seconds,

@@ -20,7 +20,9 @@ struct RemoteFlags {
   double timeout_seconds = 120;
 };
 
-void AddRemoteOptions(CLI::App* command, RemoteFlags& flags);
+// `server_flag` names the address option ("--coordinator", or "--server" for the fit service).
+void AddRemoteOptions(CLI::App* command, RemoteFlags& flags,
+                      const std::string& server_flag = "--coordinator");
 
 // A host:port; "PORT" alone means 127.0.0.1:PORT.
 std::string ListenAddress(absl::string_view listen);

@@ -1,4 +1,4 @@
-// fitbase serve: the coordinator, a worker, or both in one process.
+// fitbase serve: the coordinator, a worker, the fit service, or all in one process.
 #include <signal.h>
 
 #include <cstdlib>
@@ -14,6 +14,7 @@
 #include "services/api_key_source.h"
 #include "services/cli_context.h"
 #include "services/coordinator_server.h"
+#include "services/fit_server.h"
 #include "services/grpc_client.h"
 #include "workers/drape_worker.h"
 
@@ -34,6 +35,9 @@ struct ServeFlags {
   std::string name;
   std::string api_key_file;
   double drain_seconds = 90;
+  std::string fit_listen = "127.0.0.1:7402";
+  std::string db_mode = "secondary";
+  int64_t cache_mb = 1024;
 };
 
 // Signals are taken by one thread with sigwait, so handlers never run inside gRPC or RocksDB.
@@ -66,6 +70,9 @@ absl::Status CheckCommon(const ServeFlags& flags) {
   }
   if (flags.slots < 1 || flags.slots > 256) {
     return absl::InvalidArgumentError("--slots must be within [1, 256]");
+  }
+  if (flags.cache_mb < 1 || flags.cache_mb > (int64_t{1} << 20)) {
+    return absl::InvalidArgumentError("--cache-mb must be within [1, 1048576]");
   }
   if (flags.workers < 0 || flags.workers > 64) {
     return absl::InvalidArgumentError("--workers must be within [0, 64]");
@@ -153,6 +160,38 @@ absl::Status ServeWorker(const ServeFlags& flags) {
   return ServeWorkers(pool, flags, signals);
 }
 
+FitServerOptions FitOptions(const ServeFlags& flags, ApiKeyRegistry keys) {
+  FitServerOptions options;
+  options.keys = std::move(keys);
+  options.catalog.max_bytes = static_cast<size_t>(flags.cache_mb) << 20;
+  return options;
+}
+
+absl::Status ServeFit(const ServeFlags& flags) {
+  if (flags.api_keys.empty()) return absl::InvalidArgumentError("--api-keys is required");
+  if (flags.db.empty()) return absl::InvalidArgumentError("--db is required for this role");
+  ASSIGN_OR_RETURN(ApiKeyRegistry keys, ApiKeyRegistry::Load(flags.api_keys));
+  FitServerOptions options = FitOptions(flags, std::move(keys));
+  options.db = flags.db;
+  options.listen = flags.listen;
+  if (flags.db_mode == "secondary") {
+    options.mode = storage::OpenMode::kSecondary;
+    options.secondary_path = std::filesystem::temp_directory_path() /
+                             absl::StrCat("fitbase-fit-secondary-", getpid());
+  } else if (flags.db_mode == "readonly") {
+    options.mode = storage::OpenMode::kReadOnly;
+  } else {
+    return absl::InvalidArgumentError(
+        absl::StrCat("unknown --db-mode ", flags.db_mode, "; expected secondary or readonly"));
+  }
+  const sigset_t signals = ShutdownSignals();
+  ASSIGN_OR_RETURN(std::unique_ptr<FitServer> server, FitServer::Start(std::move(options)));
+  std::cout << "listening 127.0.0.1:" << server->port() << std::endl;
+  WaitForSignal(signals, -1);
+  server->Shutdown(absl::Seconds(5));
+  return absl::OkStatus();
+}
+
 absl::Status ServeAll(const CliContext& context, const ServeFlags& flags) {
   if (flags.api_keys.empty()) return absl::InvalidArgumentError("--api-keys is required");
   ASSIGN_OR_RETURN(ApiKeyRegistry keys, ApiKeyRegistry::Load(flags.api_keys));
@@ -160,8 +199,14 @@ absl::Status ServeAll(const CliContext& context, const ServeFlags& flags) {
   ASSIGN_OR_RETURN(std::string worker_key, NewApiKey());
   keys.AddKey(worker_key, Principal{"internal", Role::kWorker});
   const sigset_t signals = ShutdownSignals();
+  ApiKeyRegistry fit_keys = keys;
   ASSIGN_OR_RETURN(std::unique_ptr<CoordinatorServer> server,
                    StartCoordinator(context, flags, std::move(keys)));
+  FitServerOptions fit_options = FitOptions(flags, std::move(fit_keys));
+  fit_options.store = &server->store();
+  fit_options.listen = flags.fit_listen;
+  ASSIGN_OR_RETURN(std::unique_ptr<FitServer> fit, FitServer::Start(std::move(fit_options)));
+  std::cout << "fit-listening 127.0.0.1:" << fit->port() << std::endl;
   std::vector<std::unique_ptr<workers::DrapeWorker>> pool;
   for (int i = 0; i < flags.workers; ++i) {
     pool.push_back(std::make_unique<workers::DrapeWorker>(
@@ -169,6 +214,7 @@ absl::Status ServeAll(const CliContext& context, const ServeFlags& flags) {
                       absl::StrCat("worker-", i))));
   }
   const absl::Status status = ServeWorkers(pool, flags, signals);
+  fit->Shutdown(absl::Seconds(5));
   server->Shutdown(absl::Seconds(10));
   return status;
 }
@@ -181,22 +227,31 @@ absl::Status RunServe(const CliContext& context, const ServeFlags& flags) {
   if (flags.role == "coordinator") return ServeCoordinator(context, flags);
   if (flags.role == "worker") return ServeWorker(flags);
   if (flags.role == "all") return ServeAll(context, flags);
-  return absl::InvalidArgumentError(
-      absl::StrCat("unknown --role ", flags.role, "; expected coordinator, worker or all"));
+  if (flags.role == "fit") return ServeFit(flags);
+  return absl::InvalidArgumentError(absl::StrCat("unknown --role ", flags.role,
+                                                 "; expected coordinator, worker, fit or all"));
 }
 
 }  // namespace
 
 void AddServeCommand(CLI::App& app, CliContext& context) {
   auto flags = std::make_shared<ServeFlags>();
-  CLI::App* command = app.add_subcommand("serve", "Run the coordinator, a worker, or both");
-  command->add_option("--role", flags->role, "coordinator, worker or all")->required();
-  command->add_option("--db", flags->db, "coordinator, all: the RocksDB store folder");
+  CLI::App* command =
+      app.add_subcommand("serve", "Run the coordinator, a worker, the fit service, or all");
+  command->add_option("--role", flags->role, "coordinator, worker, fit or all")->required();
+  command->add_option("--db", flags->db, "coordinator, fit, all: the RocksDB store folder");
+  command->add_option("--fit-listen", flags->fit_listen,
+                      "all: host:port of the fit service (default 127.0.0.1:7402)");
+  command->add_option("--db-mode", flags->db_mode,
+                      "fit: secondary (of a live coordinator's store, created with "
+                      "--blob-files false) or readonly (a checkpoint); default secondary");
+  command->add_option("--cache-mb", flags->cache_mb,
+                      "fit, all: cache of parsed bases, MB (default 1024)");
   command->add_option("--listen", flags->listen,
-                      "coordinator, all: host:port to serve on (port 0: any free port; "
+                      "coordinator, fit, all: host:port to serve on (port 0: any free port; "
                       "default 127.0.0.1:7401)");
   command->add_option("--api-keys", flags->api_keys,
-                      "coordinator, all: key file (`fitbase keys add`)");
+                      "coordinator, fit, all: key file (`fitbase keys add`)");
   command->add_option("--lease-seconds", flags->lease_seconds,
                       "coordinator, all: lease duration without heartbeat (default 30)");
   command->add_option("--max-attempts", flags->max_attempts,

@@ -443,6 +443,19 @@ absl::StatusOr<ClothingBasisRecord> AssetStore::GetCurrentClothingBasis(
   return ClothingBasisRecord{current->number, std::move(current->value), std::move(bytes)};
 }
 
+absl::StatusOr<ClothingBasisVersion> AssetStore::GetCurrentClothingBasisVersion(
+    const ClothingBasisKey& key) const {
+  ASSIGN_OR_RETURN(const std::string basis_key, EncodeClothingBasisKey(key));
+  const std::string name = DescribeClothingBasisKey(key);
+  const ReadView view(*this);
+  ASSIGN_OR_RETURN(std::optional<LogEntry> current,
+                   Newest(view, kClothingVersions, basis_key, name));
+  if (!current.has_value()) {
+    return absl::NotFoundError(absl::StrCat("current version of ", name, " not found"));
+  }
+  return ClothingBasisVersion{current->number, std::move(current->value)};
+}
+
 absl::StatusOr<std::vector<ClothingBasisVersion>> AssetStore::ListClothingBasisVersions(
     const ClothingBasisKey& key) const {
   ASSIGN_OR_RETURN(const std::string basis_key, EncodeClothingBasisKey(key));

@@ -137,6 +137,10 @@ class AssetStore {
                                                        uint64_t version) const;
   // NOT_FOUND when none was published.
   absl::StatusOr<ClothingBasisRecord> GetCurrentClothingBasis(const ClothingBasisKey& key) const;
+  // The current version's number and content id, from the index alone (no blob read): how a
+  // server checks cheaply whether its cached copy is still current. NOT_FOUND when none.
+  absl::StatusOr<ClothingBasisVersion> GetCurrentClothingBasisVersion(
+      const ClothingBasisKey& key) const;
   // Oldest first; empty when none was published.
   absl::StatusOr<std::vector<ClothingBasisVersion>> ListClothingBasisVersions(
       const ClothingBasisKey& key) const;

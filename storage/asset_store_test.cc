@@ -159,6 +159,8 @@ TEST_F(AssetStoreTest, ClothingBasisVersionsFollowPublicationOrder) {
   auto store = OpenOrDie(Dir("db"));
   EXPECT_THAT(store->GetCurrentClothingBasis(key_),
               StatusIs(absl::StatusCode::kNotFound, "current version of clothing basis"));
+  EXPECT_THAT(store->GetCurrentClothingBasisVersion(key_),
+              StatusIs(absl::StatusCode::kNotFound, "current version of clothing basis"));
   EXPECT_EQ(*store->PublishClothingBasis(key_, "c1", "one"), 1u);
   // A coordinator's retry of the same publication is the same version.
   EXPECT_EQ(*store->PublishClothingBasis(key_, "c1", "one"), 1u);
@@ -174,6 +176,10 @@ TEST_F(AssetStoreTest, ClothingBasisVersionsFollowPublicationOrder) {
   EXPECT_EQ(current->version, 4u);
   EXPECT_EQ(current->content_id, "c1");
   EXPECT_EQ(current->bytes, "one");
+  auto version = store->GetCurrentClothingBasisVersion(key_);
+  ASSERT_TRUE(version.ok()) << version.status();
+  EXPECT_EQ(version->version, 4u);
+  EXPECT_EQ(version->content_id, "c1");
   auto second = store->GetClothingBasis(key_, 2);
   ASSERT_TRUE(second.ok()) << second.status();
   EXPECT_EQ(second->content_id, "c2");

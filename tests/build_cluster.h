@@ -25,20 +25,21 @@ namespace fitbase {
 
 inline std::filesystem::path SmallCatalogue() { return FITBASE_SMALL_CATALOGUE; }
 
-// Keys of tenant "acme" by role, and an ingestion key of tenant "rival".
+// Keys of tenant "acme" by role, and an ingestion and a customer key of tenant "rival".
 struct TestKeys {
   static constexpr char kAdmin[] = "fb_test_admin";
   static constexpr char kIngestion[] = "fb_test_ingestion";
   static constexpr char kCustomer[] = "fb_test_customer";
   static constexpr char kWorker[] = "fb_test_worker";
   static constexpr char kRival[] = "fb_test_rival";
+  static constexpr char kRivalCustomer[] = "fb_test_rival_customer";
 
   static std::string FileText() {
     using services::HashApiKey;
     return absl::StrCat(HashApiKey(kAdmin), " acme admin\n", HashApiKey(kIngestion),
                         " acme ingestion\n", HashApiKey(kCustomer), " acme customer\n",
                         HashApiKey(kWorker), " workers worker\n", HashApiKey(kRival),
-                        " rival ingestion\n");
+                        " rival ingestion\n", HashApiKey(kRivalCustomer), " rival customer\n");
   }
   static services::ApiKeyRegistry Registry() {
     return *services::ApiKeyRegistry::Parse(FileText(), "test keys");

@@ -1,0 +1,286 @@
+// The fit service end to end: a real coordinator and workers build the small catalogue's
+// clothing basis into a real RocksDB store, and a real fit server on 127.0.0.1 answers a
+// customer's calls, compared with the local `fitbase fit`.
+#include <thread>
+
+#include "absl/strings/str_format.h"
+
+#include "core/garment_obj.h"
+#include "core/test_support.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "proto/avatar_codec.h"
+#include "proto/draco_codec.h"
+#include "services/avatar_file.h"
+#include "services/clock.h"
+#include "services/customer_client.h"
+#include "services/coordinator_server.h"
+#include "services/fit_server.h"
+#include "tests/build_cluster.h"
+#include "tests/cli_runner.h"
+#include "workers/drape_worker.h"
+
+namespace fitbase {
+namespace {
+
+using ::testing::HasSubstr;
+
+class FitServiceTest : public ::testing::Test {
+ protected:
+  // One build per test process: each TEST runs in its own process under ctest.
+  void SetUp() override {
+    ASSERT_TRUE(std::filesystem::exists(SmallCatalogue() / "ready"));
+    dir_ = core::ProcessTempDir() / "fit";
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    services::CoordinatorServerOptions options;
+    options.db = dir_ / "db";
+    options.listen = "127.0.0.1:0";
+    options.data_dir = core::TestDataDir();
+    options.keys = TestKeys::Registry();
+    auto coordinator = services::CoordinatorServer::Start(std::move(options));
+    ASSERT_TRUE(coordinator.ok()) << coordinator.status();
+    coordinator_ = *std::move(coordinator);
+    Clients clients(absl::StrCat("127.0.0.1:", coordinator_->port()));
+    PublishSmallBasis(clients);
+    garment_ = SmallGarment();
+    ASSERT_TRUE(coordinator_->store()
+                    .PutGarment("acme", garment_.id(), proto::SerializeDeterministically(garment_))
+                    .ok());
+    workers::DrapeWorkerOptions worker_options;
+    worker_options.coordinator = absl::StrCat("127.0.0.1:", coordinator_->port());
+    worker_options.api_key = TestKeys::kWorker;
+    worker_options.name = "w";
+    worker_options.slots = 2;
+    workers::DrapeWorker worker(worker_options);
+    std::thread thread([&] { worker.Run(); });
+    v1::Build build;
+    ASSERT_TRUE(clients.coordinator
+                    ->SubmitBuild(Call(TestKeys::kAdmin).get(), SmallBuild(garment_.id()), &build)
+                    .ok());
+    ASSERT_EQ(WatchToEnd(clients, build.build_id()).phase(), v1::BUILD_SUCCEEDED);
+    worker.Drain();
+    thread.join();
+
+    services::FitServerOptions fit;
+    fit.store = &coordinator_->store();
+    fit.listen = "127.0.0.1:0";
+    fit.keys = TestKeys::Registry();
+    fit.catalog.clock = &clock_;
+    auto server = services::FitServer::Start(std::move(fit));
+    ASSERT_TRUE(server.ok()) << server.status();
+    fit_ = *std::move(server);
+    stub_ = v1::FitService::NewStub(services::OpenChannel(absl::StrCat("127.0.0.1:", fit_->port())));
+  }
+  void TearDown() override {
+    if (fit_ != nullptr) fit_->Shutdown(absl::Seconds(1));
+    if (coordinator_ != nullptr) coordinator_->Shutdown(absl::Seconds(1));
+  }
+
+  v1::ProjectAvatarRequest AvatarRequest(int index, bool draco) {
+    auto avatar = services::ReadAvatarObj(SmallCatalogue() / "pop" /
+                                          absl::StrFormat("avatar-%05d.obj", index));
+    EXPECT_TRUE(avatar.ok());
+    v1::ProjectAvatarRequest request;
+    request.set_population("women");
+    *request.mutable_avatar() = *proto::AvatarFromPositions(avatar->positions, draco);
+    return request;
+  }
+
+  v1::AvatarProjection Project(int index, const std::string& key = TestKeys::kCustomer) {
+    v1::AvatarProjection projection;
+    const grpc::Status status =
+        stub_->ProjectAvatar(Call(key).get(), AvatarRequest(index, false), &projection);
+    EXPECT_TRUE(status.ok()) << status.error_message();
+    return projection;
+  }
+
+  v1::FitGarmentRequest FitRequest(const v1::AvatarWeights& weights) {
+    v1::FitGarmentRequest request;
+    *request.mutable_weights() = weights;
+    request.set_garment_id(garment_.id());
+    request.set_size("M");
+    request.set_with_metrics(true);
+    return request;
+  }
+
+  grpc::StatusCode FitCode(const v1::FitGarmentRequest& request,
+                           const std::string& key = TestKeys::kCustomer) {
+    v1::FittedGarment fitted;
+    return stub_->FitGarment(Call(key).get(), request, &fitted).error_code();
+  }
+
+  services::ManualClock clock_{absl::FromUnixSeconds(1800000000)};
+  std::filesystem::path dir_;
+  std::unique_ptr<services::CoordinatorServer> coordinator_;
+  std::unique_ptr<services::FitServer> fit_;
+  std::unique_ptr<v1::FitService::Stub> stub_;
+  v1::Garment garment_;
+};
+
+TEST_F(FitServiceTest, AFitOverGrpcMatchesTheLocalFitWithinTheDracoQuantization) {
+  const v1::AvatarProjection projection = Project(3);
+  EXPECT_EQ(projection.weights().basis_id(), garment_.avatar_basis_id());
+  EXPECT_FALSE(projection.out_of_distribution());
+  v1::FittedGarment draco;
+  ASSERT_TRUE(stub_->FitGarment(Call(TestKeys::kCustomer).get(), FitRequest(projection.weights()),
+                                &draco)
+                  .ok());
+  v1::FitGarmentRequest raw_request = FitRequest(projection.weights());
+  raw_request.set_encoding(v1::POSITIONS_ENCODING_RAW);
+  v1::FittedGarment raw;
+  ASSERT_TRUE(stub_->FitGarment(Call(TestKeys::kCustomer).get(), raw_request, &raw).ok());
+  EXPECT_EQ(draco.clothing_basis_version(), 1u);
+  const int64_t vertices = garment_.template_mesh().vertex_count();
+  v1::GetGarmentTopologyRequest topology_request;
+  topology_request.set_garment_id(garment_.id());
+  v1::GarmentTopology topology;
+  ASSERT_TRUE(
+      stub_->GetGarmentTopology(Call(TestKeys::kCustomer).get(), topology_request, &topology).ok());
+  auto wire = proto::DecodePositions(draco.positions(), vertices);
+  ASSERT_TRUE(wire.ok());
+  auto from_draco = services::FromWireOrder(topology, *wire);
+  auto from_raw = proto::DecodePositions(raw.positions(), vertices);
+  ASSERT_TRUE(from_draco.ok() && from_raw.ok());
+  EXPECT_GE(raw.positions().ByteSizeLong(), 4 * draco.positions().ByteSizeLong());
+
+  const Result local = RunFitbase(
+      {"fit", "--clothing", (SmallCatalogue() / "M-linear.fbc").string(), "--avatar",
+       (SmallCatalogue() / "pop" / "avatar-00003.obj").string(), "--basis",
+       (SmallCatalogue() / "b.fbb").string(), "--out", (dir_ / "local.obj").string()});
+  ASSERT_EQ(local.exit_code, 0) << local.err;
+  auto expected = core::ReadGarmentObj(dir_ / "local.obj");
+  ASSERT_TRUE(expected.ok());
+  const float bound = draco.positions().draco().max_error_m();
+  double worst_raw = 0, worst_draco = 0;
+  for (int64_t i = 0; i < 3 * vertices; ++i) {
+    const double want = expected->mesh.positions.data()[i];
+    worst_raw = std::max(worst_raw, std::abs((*from_raw)[i] - want));
+    worst_draco = std::max(worst_draco, std::abs((*from_draco)[i] - want));
+  }
+  EXPECT_LT(worst_raw, 1e-5);  // The OBJ's printed digits and float32 projections.
+  EXPECT_LT(worst_draco, bound + 1e-5);
+}
+
+TEST_F(FitServiceTest, AnOutfitFitsEverySizeWithAClothingBasis) {
+  const v1::AvatarProjection projection = Project(2);
+  v1::FitOutfitRequest request;
+  *request.mutable_weights() = projection.weights();
+  request.add_items()->set_garment_id(garment_.id());  // Every size: only M is built.
+  v1::FitOutfitResponse outfit;
+  ASSERT_TRUE(stub_->FitOutfit(Call(TestKeys::kCustomer).get(), request, &outfit).ok());
+  ASSERT_EQ(outfit.garments_size(), 1);
+  EXPECT_EQ(outfit.garments(0).size(), "M");
+  request.mutable_items(0)->set_size("XL");  // Named, but not built.
+  EXPECT_EQ(stub_->FitOutfit(Call(TestKeys::kCustomer).get(), request, &outfit).error_code(),
+            grpc::StatusCode::NOT_FOUND);
+}
+
+TEST_F(FitServiceTest, ANewlyPublishedVersionServesWithoutARestart) {
+  const v1::AvatarProjection projection = Project(1);
+  v1::FittedGarment first;
+  ASSERT_TRUE(stub_->FitGarment(Call(TestKeys::kCustomer).get(), FitRequest(projection.weights()),
+                                &first)
+                  .ok());
+  const storage::ClothingBasisKey key{"acme", garment_.id(), "M", garment_.avatar_basis_id(),
+                                      "linear"};
+  v1::ClothingBasis moved;
+  ASSERT_TRUE(moved.ParseFromString(coordinator_->store().GetCurrentClothingBasis(key)->bytes));
+  moved.set_id("moved-by-a-rebuild");
+  ASSERT_TRUE(coordinator_->store()
+                  .PublishClothingBasis(key, moved.id(), proto::SerializeDeterministically(moved))
+                  .ok());
+  clock_.Advance(absl::Seconds(2));  // Past the catalogue's refresh.
+  v1::FittedGarment second;
+  ASSERT_TRUE(stub_->FitGarment(Call(TestKeys::kCustomer).get(), FitRequest(projection.weights()),
+                                &second)
+                  .ok());
+  EXPECT_EQ(second.clothing_basis_version(), 2u);
+  EXPECT_EQ(second.clothing_basis_id(), "moved-by-a-rebuild");
+}
+
+TEST_F(FitServiceTest, KeysTenantsAndRolesAreEnforced) {
+  const v1::AvatarProjection projection = Project(1);
+  const v1::FitGarmentRequest request = FitRequest(projection.weights());
+  EXPECT_EQ(FitCode(request, ""), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(FitCode(request, "fb_wrong"), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(FitCode(request, TestKeys::kWorker), grpc::StatusCode::PERMISSION_DENIED);
+  EXPECT_EQ(FitCode(request, TestKeys::kRival), grpc::StatusCode::PERMISSION_DENIED);
+  // Another tenant's garment does not exist for the rival's customers.
+  EXPECT_EQ(FitCode(request, TestKeys::kRivalCustomer), grpc::StatusCode::NOT_FOUND);
+  v1::GetGarmentTopologyRequest topology;
+  topology.set_garment_id(garment_.id());
+  v1::GarmentTopology ignored;
+  EXPECT_EQ(stub_->GetGarmentTopology(Call(TestKeys::kRivalCustomer).get(), topology, &ignored)
+                .error_code(),
+            grpc::StatusCode::NOT_FOUND);
+  EXPECT_EQ(FitCode(request, TestKeys::kAdmin), grpc::StatusCode::OK);
+  // A customer key cannot ingest: nothing is written.
+  Clients clients(absl::StrCat("127.0.0.1:", coordinator_->port()));
+  v1::UploadGarmentRequest upload;
+  upload.set_avatar_basis_id(garment_.avatar_basis_id());
+  upload.add_sizes("M");
+  upload.mutable_obj()->set_name("g.obj");
+  upload.mutable_obj()->set_content("v 0 0 0\n");
+  v1::UploadGarmentResponse uploaded;
+  EXPECT_EQ(clients.catalog->UploadGarment(Call(TestKeys::kCustomer).get(), upload, &uploaded)
+                .error_code(),
+            grpc::StatusCode::PERMISSION_DENIED);
+  EXPECT_EQ(*coordinator_->store().ListGarmentIds("acme"), std::vector<std::string>{garment_.id()});
+}
+
+TEST_F(FitServiceTest, BadInputGetsClearCodesWhileOthersAreServed) {
+  const v1::AvatarProjection projection = Project(1);
+  v1::FitGarmentRequest request = FitRequest(projection.weights());
+  std::atomic<bool> stop{false};
+  std::atomic<int> served{0}, failed{0};
+  std::thread other([&] {
+    while (!stop) {
+      (FitCode(FitRequest(projection.weights())) == grpc::StatusCode::OK ? served : failed)++;
+    }
+  });
+
+  v1::ProjectAvatarRequest wrong_count = AvatarRequest(1, false);
+  wrong_count.mutable_avatar()->mutable_positions()->mutable_raw()->mutable_xyz()->RemoveLast();
+  v1::AvatarProjection ignored;
+  EXPECT_EQ(stub_->ProjectAvatar(Call(TestKeys::kCustomer).get(), wrong_count, &ignored)
+                .error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+  v1::ProjectAvatarRequest nan = AvatarRequest(1, false);
+  nan.mutable_avatar()->mutable_positions()->mutable_raw()->set_xyz(7, std::nanf(""));
+  EXPECT_EQ(stub_->ProjectAvatar(Call(TestKeys::kCustomer).get(), nan, &ignored).error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+  v1::ProjectAvatarRequest oversize = AvatarRequest(1, false);
+  oversize.mutable_avatar()->mutable_positions()->mutable_raw()->mutable_xyz()->Resize(
+      2 << 20, 0.5f);
+  EXPECT_EQ(stub_->ProjectAvatar(Call(TestKeys::kCustomer).get(), oversize, &ignored)
+                .error_code(),
+            grpc::StatusCode::RESOURCE_EXHAUSTED);
+
+  v1::FitGarmentRequest unknown_garment = request;
+  unknown_garment.set_garment_id("no-such-garment");
+  EXPECT_EQ(FitCode(unknown_garment), grpc::StatusCode::NOT_FOUND);
+  v1::FitGarmentRequest unknown_size = request;
+  unknown_size.set_size("XXXL");
+  EXPECT_EQ(FitCode(unknown_size), grpc::StatusCode::NOT_FOUND);
+  v1::FitGarmentRequest short_weights = request;
+  short_weights.mutable_weights()->mutable_weights()->RemoveLast();
+  EXPECT_EQ(FitCode(short_weights), grpc::StatusCode::INVALID_ARGUMENT);
+  v1::FitGarmentRequest nan_weights = request;
+  nan_weights.mutable_weights()->set_weights(0, std::nan(""));
+  EXPECT_EQ(FitCode(nan_weights), grpc::StatusCode::INVALID_ARGUMENT);
+  v1::FitGarmentRequest old_basis = request;
+  old_basis.mutable_weights()->set_basis_id("an-older-basis");
+  v1::FittedGarment fitted;
+  const grpc::Status refused = stub_->FitGarment(Call(TestKeys::kCustomer).get(), old_basis, &fitted);
+  EXPECT_EQ(refused.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
+  EXPECT_THAT(refused.error_message(), HasSubstr(garment_.avatar_basis_id()));
+
+  stop = true;
+  other.join();
+  EXPECT_GT(served.load(), 0);
+  EXPECT_EQ(failed.load(), 0);
+}
+
+}  // namespace
+}  // namespace fitbase
