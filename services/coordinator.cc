@@ -102,6 +102,23 @@ void Coordinator::PutRunLocked(const BuildRun& run, storage::AssetWrite& write) 
   write.PutBuild(run.build.build_id(), proto::SerializeDeterministically(run.build));
 }
 
+std::vector<Coordinator::BuildRun*> Coordinator::UpdateWaitersLocked(
+    const std::vector<Waiter>& waiters, absl::FunctionRef<void(const Waiter&, v1::Task&)> update,
+    storage::AssetWrite& write) {
+  std::vector<BuildRun*> runs;
+  for (const Waiter& waiter : waiters) {
+    BuildRun& run = *builds_.at(waiter.build_id);
+    v1::Task& task = run.tasks.at(waiter.task_id);
+    update(waiter, task);
+    write.PutTask(waiter.build_id, waiter.task_id, proto::SerializeDeterministically(task));
+    MaybeAssembleLocked(run);
+    PutRunLocked(run, write);
+    TouchLocked(run);
+    runs.push_back(&run);
+  }
+  return runs;
+}
+
 Coordinator::BuildRun* Coordinator::FindBuildLocked(absl::string_view tenant,
                                                     absl::string_view build_id) const {
   auto it = builds_.find(std::string(build_id));
@@ -355,26 +372,23 @@ absl::StatusOr<std::optional<LeasedTask>> Coordinator::Lease(absl::string_view w
   execution.expiry = Now() + options_.lease;
   execution.worker = std::string(worker);
   storage::AssetWrite write;
-  for (const Waiter& waiter : execution.waiters) {
-    BuildRun& run = *builds_.at(waiter.build_id);
-    v1::Task& task = run.tasks.at(waiter.task_id);
-    task.set_phase(v1::TASK_LEASED);
-    task.set_worker(execution.worker);
-    task.set_lease_token(execution.token);
-    task.set_lease_expiry_unix_ms(UnixMillis(execution.expiry));
-    task.set_leases(task.leases() + 1);
-    write.PutTask(waiter.build_id, waiter.task_id, proto::SerializeDeterministically(task));
-    MaybeAssembleLocked(run);
-    PutRunLocked(run, write);
-    TouchLocked(run);
-    core::LogLine("task_leased")
-        .Add("build", waiter.build_id)
-        .Add("task", waiter.task_id)
-        .Add("key", execution.key)
-        .Add("token", execution.token)
-        .Add("attempt", execution.attempts + 1)
-        .Add("worker", worker);
-  }
+  UpdateWaitersLocked(
+      execution.waiters,
+      [&](const Waiter& waiter, v1::Task& task) {
+        task.set_phase(v1::TASK_LEASED);
+        task.set_worker(execution.worker);
+        task.set_lease_token(execution.token);
+        task.set_lease_expiry_unix_ms(UnixMillis(execution.expiry));
+        task.set_leases(task.leases() + 1);
+        core::LogLine("task_leased")
+            .Add("build", waiter.build_id)
+            .Add("task", task.task_id())
+            .Add("key", execution.key)
+            .Add("token", execution.token)
+            .Add("attempt", execution.attempts + 1)
+            .Add("worker", worker);
+      },
+      write);
   // Synced: a token must never be granted twice, even across a crash.
   RETURN_IF_ERROR(CommitLocked(write, /*sync=*/true));
   LeasedTask leased;
@@ -450,21 +464,18 @@ absl::Status Coordinator::Complete(absl::string_view key, uint64_t token,
 
   storage::AssetWrite write;
   write.PutDrapeResult(key, proto::SerializeDeterministically(result));
-  for (const Waiter& waiter : execution->waiters) {
-    BuildRun& run = *builds_.at(waiter.build_id);
-    v1::Task& task = run.tasks.at(waiter.task_id);
-    task.set_phase(v1::TASK_DONE);
-    ClearLease(task);
-    write.PutTask(waiter.build_id, waiter.task_id, proto::SerializeDeterministically(task));
-    MaybeAssembleLocked(run);
-    PutRunLocked(run, write);
-    TouchLocked(run);
-    core::LogLine("task_done")
-        .Add("build", waiter.build_id)
-        .Add("task", waiter.task_id)
-        .Add("key", key)
-        .Add("token", token);
-  }
+  UpdateWaitersLocked(
+      execution->waiters,
+      [&](const Waiter& waiter, v1::Task& task) {
+        task.set_phase(v1::TASK_DONE);
+        ClearLease(task);
+        core::LogLine("task_done")
+            .Add("build", waiter.build_id)
+            .Add("task", task.task_id())
+            .Add("key", key)
+            .Add("token", token);
+      },
+      write);
   completed_tokens_[std::string(key)] = token;
   executions_.erase(std::string(key));
   return CommitLocked(write, /*sync=*/true);
@@ -485,16 +496,13 @@ absl::Status Coordinator::Fail(absl::string_view key, uint64_t token, absl::stri
   queue_.push_front(execution->key);
   queue_changed_.notify_one();
   storage::AssetWrite write;
-  for (const Waiter& waiter : execution->waiters) {
-    BuildRun& run = *builds_.at(waiter.build_id);
-    v1::Task& task = run.tasks.at(waiter.task_id);
-    task.set_phase(v1::TASK_QUEUED);
-    ClearLease(task);
-    write.PutTask(waiter.build_id, waiter.task_id, proto::SerializeDeterministically(task));
-    MaybeAssembleLocked(run);
-    PutRunLocked(run, write);
-    TouchLocked(run);
-  }
+  UpdateWaitersLocked(
+      execution->waiters,
+      [](const Waiter&, v1::Task& task) {
+        task.set_phase(v1::TASK_QUEUED);
+        ClearLease(task);
+      },
+      write);
   return CommitLocked(write, /*sync=*/true);
 }
 
@@ -505,23 +513,18 @@ absl::Status Coordinator::FailAttemptLocked(Execution& execution, const std::str
   const bool final = attempts >= options_.max_attempts;
   const std::vector<Waiter> waiters = execution.waiters;
   storage::AssetWrite write;
-  std::vector<BuildRun*> failed_runs;
-  for (const Waiter& waiter : waiters) {
-    BuildRun& run = *builds_.at(waiter.build_id);
-    v1::Task& task = run.tasks.at(waiter.task_id);
-    task.set_phase(final ? v1::TASK_FAILED : v1::TASK_QUEUED);
-    task.set_attempts(attempts);
-    task.set_error(error);
-    ClearLease(task);
-    write.PutTask(waiter.build_id, waiter.task_id, proto::SerializeDeterministically(task));
-    MaybeAssembleLocked(run);
-    PutRunLocked(run, write);
-    TouchLocked(run);
-    if (final) failed_runs.push_back(&run);
-  }
+  const std::vector<BuildRun*> runs = UpdateWaitersLocked(
+      waiters,
+      [&](const Waiter&, v1::Task& task) {
+        task.set_phase(final ? v1::TASK_FAILED : v1::TASK_QUEUED);
+        task.set_attempts(attempts);
+        task.set_error(error);
+        ClearLease(task);
+      },
+      write);
   if (final) {
     executions_.erase(key);
-    for (BuildRun* run : failed_runs) {
+    for (BuildRun* run : runs) {
       if (IsTerminal(run->build.phase())) continue;
       std::string task_id;
       for (const Waiter& waiter : waiters) {

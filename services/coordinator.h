@@ -14,6 +14,7 @@
 
 #include "absl/container/flat_hash_map.h"
 #include "absl/container/node_hash_map.h"
+#include "absl/functional/function_ref.h"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
@@ -154,6 +155,11 @@ class Coordinator {
   // Marks a build whose every task is done ASSEMBLING and queues it for the assembler.
   void MaybeAssembleLocked(BuildRun& run);
   void TouchLocked(BuildRun& run);
+  // Applies `update` to every waiting task, records it and its build in `write`, and returns
+  // the builds (once per waiter).
+  std::vector<BuildRun*> UpdateWaitersLocked(const std::vector<Waiter>& waiters,
+                                             absl::FunctionRef<void(const Waiter&, v1::Task&)> update,
+                                             storage::AssetWrite& write);
   void PutRunLocked(const BuildRun& run, storage::AssetWrite& write) const;
   void RunAssembler();
   void Assemble(const std::string& build_id);

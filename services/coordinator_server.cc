@@ -52,28 +52,15 @@ absl::StatusOr<std::unique_ptr<CoordinatorServer>> CoordinatorServer::Start(
       .Add("port", server->port_)
       .Add("db", o.db.string())
       .Add("recovery_seconds", absl::ToDoubleSeconds(absl::Now() - start));
-  server->reaper_ = std::thread([s = server.get()] { s->RunReaper(); });
+  server->reaper_ = std::make_unique<PeriodicThread>(
+      o.reap_period, [c = server->coordinator_.get()] { c->ReapExpiredLeases(); });
   return server;
 }
 
-void CoordinatorServer::RunReaper() {
-  std::unique_lock lock(mutex_);
-  while (!stopping_) {
-    stop_.wait_for(lock, absl::ToChronoNanoseconds(options_.reap_period));
-    if (stopping_) break;
-    lock.unlock();
-    coordinator_->ReapExpiredLeases();
-    lock.lock();
-  }
-}
-
 void CoordinatorServer::Shutdown(absl::Duration grace) {
-  {
-    std::lock_guard lock(mutex_);
-    if (stopping_) return;
-    stopping_ = true;
-    stop_.notify_all();
-  }
+  if (stopped_) return;
+  stopped_ = true;
+  if (reaper_ != nullptr) reaper_->Stop();
   if (server_ != nullptr) {
     server_->GetHealthCheckService()->SetServingStatus(false);
     // Long-polls and watches return as soon as the coordinator shuts down, so the server's
@@ -81,7 +68,6 @@ void CoordinatorServer::Shutdown(absl::Duration grace) {
     if (coordinator_ != nullptr) coordinator_->Shutdown();
     server_->Shutdown(absl::ToChronoTime(absl::Now() + grace));
   }
-  if (reaper_.joinable()) reaper_.join();
   if (server_ != nullptr) core::LogLine("coordinator_stopped").Add("port", port_);
 }
 

@@ -1,12 +1,9 @@
 #ifndef FITBASE_SERVICES_COORDINATOR_SERVER_H_
 #define FITBASE_SERVICES_COORDINATOR_SERVER_H_
 
-#include <condition_variable>
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 
 #include "absl/status/statusor.h"
 #include "absl/time/time.h"
@@ -16,6 +13,7 @@
 #include "services/catalog_service.h"
 #include "services/coordinator.h"
 #include "services/coordinator_service.h"
+#include "services/periodic_thread.h"
 #include "storage/asset_store.h"
 
 namespace fitbase::services {
@@ -53,7 +51,6 @@ class CoordinatorServer {
 
  private:
   CoordinatorServer() = default;
-  void RunReaper();
 
   CoordinatorServerOptions options_;
   std::unique_ptr<storage::AssetStore> store_;
@@ -65,10 +62,8 @@ class CoordinatorServer {
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<Coordinator> coordinator_;
   int port_ = 0;
-  std::mutex mutex_;
-  std::condition_variable stop_;
-  bool stopping_ = false;
-  std::thread reaper_;
+  bool stopped_ = false;
+  std::unique_ptr<PeriodicThread> reaper_;
 };
 
 }  // namespace fitbase::services

@@ -44,38 +44,25 @@ absl::StatusOr<std::unique_ptr<FitServer>> FitServer::Start(FitServerOptions opt
   }
   server->server_->GetHealthCheckService()->SetServingStatus(true);
   if (server->owned_store_ != nullptr && o.mode == storage::OpenMode::kSecondary) {
-    server->catch_up_ = std::thread([s = server.get()] { s->RunCatchUp(); });
+    server->catch_up_ = std::make_unique<PeriodicThread>(o.catalog.refresh, [s = server->store_] {
+      if (absl::Status status = s->TryCatchUpWithPrimary(); !status.ok()) {
+        core::LogLine("catch_up_failed").Add("error", status.ToString());
+      }
+    });
   }
   core::LogLine("fit_serving").Add("port", server->port_);
   return server;
 }
 
-void FitServer::RunCatchUp() {
-  std::unique_lock lock(mutex_);
-  while (!stopping_) {
-    stop_.wait_for(lock, absl::ToChronoNanoseconds(options_.catalog.refresh));
-    if (stopping_) break;
-    lock.unlock();
-    if (absl::Status status = store_->TryCatchUpWithPrimary(); !status.ok()) {
-      core::LogLine("catch_up_failed").Add("error", status.ToString());
-    }
-    lock.lock();
-  }
-}
-
 void FitServer::Shutdown(absl::Duration grace) {
-  {
-    std::lock_guard lock(mutex_);
-    if (stopping_) return;
-    stopping_ = true;
-    stop_.notify_all();
-  }
+  if (stopped_) return;
+  stopped_ = true;
+  if (catch_up_ != nullptr) catch_up_->Stop();
   if (server_ != nullptr) {
     server_->GetHealthCheckService()->SetServingStatus(false);
     server_->Shutdown(absl::ToChronoTime(absl::Now() + grace));
     core::LogLine("fit_stopped").Add("port", port_);
   }
-  if (catch_up_.joinable()) catch_up_.join();
 }
 
 FitServer::~FitServer() { Shutdown(absl::Seconds(2)); }

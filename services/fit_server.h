@@ -1,12 +1,9 @@
 #ifndef FITBASE_SERVICES_FIT_SERVER_H_
 #define FITBASE_SERVICES_FIT_SERVER_H_
 
-#include <condition_variable>
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 
 #include "absl/status/statusor.h"
 #include "absl/time/time.h"
@@ -14,6 +11,7 @@
 #include "services/api_keys.h"
 #include "services/fit_catalog.h"
 #include "services/fit_service.h"
+#include "services/periodic_thread.h"
 #include "storage/asset_store.h"
 
 namespace fitbase::services {
@@ -51,7 +49,6 @@ class FitServer {
 
  private:
   FitServer() = default;
-  void RunCatchUp();
 
   FitServerOptions options_;
   std::unique_ptr<storage::AssetStore> owned_store_;
@@ -60,10 +57,8 @@ class FitServer {
   std::unique_ptr<FitService> service_;
   std::unique_ptr<grpc::Server> server_;
   int port_ = 0;
-  std::mutex mutex_;
-  std::condition_variable stop_;
-  bool stopping_ = false;
-  std::thread catch_up_;
+  bool stopped_ = false;
+  std::unique_ptr<PeriodicThread> catch_up_;
 };
 
 }  // namespace fitbase::services
