@@ -27,6 +27,8 @@ struct CoordinatorServerOptions {
   // Largest request or response, each way; larger ones fail with RESOURCE_EXHAUSTED.
   int max_message_bytes = 64 << 20;
   absl::Duration reap_period = absl::Seconds(1);
+  // Null: plaintext. TlsServerCredentials with a CA: mutual TLS, only certified workers.
+  std::shared_ptr<grpc::ServerCredentials> credentials;
   // Where large values go: see storage::OpenOptions::blob_files.
   bool blob_files = true;
 };

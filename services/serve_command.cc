@@ -16,6 +16,7 @@
 #include "services/coordinator_server.h"
 #include "services/fit_server.h"
 #include "services/grpc_client.h"
+#include "services/tls_credentials.h"
 #include "workers/drape_worker.h"
 
 namespace fitbase::services {
@@ -38,6 +39,8 @@ struct ServeFlags {
   std::string fit_listen = "127.0.0.1:7402";
   std::string db_mode = "secondary";
   int64_t cache_mb = 1024;
+  TlsFiles tls;
+  std::string tls_target_name;
 };
 
 // Signals are taken by one thread with sigwait, so handlers never run inside gRPC or RocksDB.
@@ -98,6 +101,9 @@ absl::StatusOr<std::unique_ptr<CoordinatorServer>> StartCoordinator(const CliCon
   options.coordinator.lease = absl::Seconds(flags.lease_seconds);
   options.coordinator.max_attempts = flags.max_attempts;
   options.blob_files = flags.blob_files;
+  if (!flags.tls.cert.empty() || !flags.tls.key.empty()) {
+    ASSIGN_OR_RETURN(options.credentials, TlsServerCredentials(flags.tls));
+  }
   ASSIGN_OR_RETURN(std::unique_ptr<CoordinatorServer> server,
                    CoordinatorServer::Start(std::move(options)));
   std::cout << "listening 127.0.0.1:" << server->port() << std::endl;
@@ -151,11 +157,16 @@ absl::Status ServeWorker(const ServeFlags& flags) {
   ASSIGN_OR_RETURN(std::string key, flags.api_key_file.empty()
                                         ? ApiKeyFromEnvironment()
                                         : ApiKeyFromFile(flags.api_key_file));
+  workers::DrapeWorkerOptions options =
+      WorkerOptions(flags, ListenAddress(flags.coordinator), key,
+                    flags.name.empty() ? DefaultWorkerName() : flags.name);
+  if (!flags.tls.ca.empty() || !flags.tls.cert.empty()) {
+    ASSIGN_OR_RETURN(options.credentials, TlsChannelCredentials(flags.tls));
+    options.tls_target_name = flags.tls_target_name;
+  }
   const sigset_t signals = ShutdownSignals();
   std::vector<std::unique_ptr<workers::DrapeWorker>> pool;
-  pool.push_back(std::make_unique<workers::DrapeWorker>(
-      WorkerOptions(flags, ListenAddress(flags.coordinator), key,
-                    flags.name.empty() ? DefaultWorkerName() : flags.name)));
+  pool.push_back(std::make_unique<workers::DrapeWorker>(std::move(options)));
   core::LogLine("worker_started").Add("coordinator", flags.coordinator).Add("slots", flags.slots);
   return ServeWorkers(pool, flags, signals);
 }
@@ -265,6 +276,14 @@ void AddServeCommand(CLI::App& app, CliContext& context) {
   command->add_option("--name", flags->name, "worker: name in leases and logs (default host-pid)");
   command->add_option("--api-key-file", flags->api_key_file,
                       "worker: file holding its key (default: $FITBASE_API_KEY)");
+  command->add_option("--tls-cert", flags->tls.cert,
+                      "coordinator, worker: this side's TLS certificate chain (PEM)");
+  command->add_option("--tls-key", flags->tls.key, "coordinator, worker: its private key (PEM)");
+  command->add_option("--tls-ca", flags->tls.ca,
+                      "coordinator: require client certificates signed by this CA (mutual "
+                      "TLS); worker: the CA that signed the coordinator's certificate");
+  command->add_option("--tls-target-name", flags->tls_target_name,
+                      "worker: the name on the coordinator's certificate, if not its host");
   command->add_option("--drain-seconds", flags->drain_seconds,
                       "worker, all: after SIGTERM, how long running drapes may take before "
                       "their leases are returned (default 90)");

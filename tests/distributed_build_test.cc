@@ -9,6 +9,7 @@
 #include "gtest/gtest.h"
 #include "services/clock.h"
 #include "services/coordinator_server.h"
+#include "services/tls_credentials.h"
 #include "storage/asset_store.h"
 #include "tests/build_cluster.h"
 #include "workers/drape_worker.h"
@@ -39,7 +40,8 @@ class DistributedBuildTest : public ::testing::Test {
     if (server_ != nullptr) server_->Shutdown(absl::Seconds(1));
   }
 
-  void Start(int max_message_bytes = 64 << 20) {
+  void Start(int max_message_bytes = 64 << 20,
+             std::shared_ptr<grpc::ServerCredentials> credentials = nullptr) {
     services::CoordinatorServerOptions options;
     options.db = db_;
     options.listen = "127.0.0.1:0";
@@ -49,11 +51,12 @@ class DistributedBuildTest : public ::testing::Test {
     options.coordinator.lease = kLease;
     options.coordinator.max_attempts = 3;
     options.max_message_bytes = max_message_bytes;
+    options.credentials = std::move(credentials);
     auto server = services::CoordinatorServer::Start(std::move(options));
     ASSERT_TRUE(server.ok()) << server.status();
     server_ = *std::move(server);
     address_ = absl::StrCat("127.0.0.1:", server_->port());
-    clients_ = std::make_unique<Clients>(address_);
+    if (!tls_) clients_ = std::make_unique<Clients>(address_);
   }
 
   void Restart() {
@@ -63,9 +66,12 @@ class DistributedBuildTest : public ::testing::Test {
     Start();
   }
 
-  void StartWorkers(int count) {
+  void StartWorkers(int count,
+                    std::shared_ptr<grpc::ChannelCredentials> credentials = nullptr) {
     for (int i = 0; i < count; ++i) {
       workers::DrapeWorkerOptions options;
+      options.credentials = credentials;
+      options.tls_target_name = credentials ? "fitbase-coordinator" : "";
       options.coordinator = address_;
       options.api_key = TestKeys::kWorker;
       options.name = absl::StrCat("w", i);
@@ -137,6 +143,7 @@ class DistributedBuildTest : public ::testing::Test {
   }
 
   services::ManualClock clock_{absl::FromUnixSeconds(1800000000)};
+  bool tls_ = false;  // Plaintext clients_ only talk to a plaintext server.
   std::filesystem::path db_;
   std::unique_ptr<services::CoordinatorServer> server_;
   std::string address_;
@@ -442,6 +449,60 @@ TEST_F(DistributedBuildTest, UploadImportsTheGarmentOnTheServer) {
   EXPECT_EQ(uploaded.garment_id(), garment_.id());  // The CLI's import of the same files.
   EXPECT_TRUE(uploaded.created());
   EXPECT_EQ(*server_->store().ListGarmentIds("rival"), std::vector<std::string>{garment_.id()});
+}
+
+std::filesystem::path Tls(const std::string& name) {
+  return std::filesystem::path(FITBASE_SOURCE_DIR) / "tests/testdata/tls" / name;
+}
+
+TEST_F(DistributedBuildTest, WithMutualTlsOnlyCertifiedWorkersConnect) {
+  const v1::Build build = Submit(SmallBuild(garment_.id()));
+  server_->Shutdown(absl::Seconds(1));
+  server_.reset();
+  auto server_credentials = services::TlsServerCredentials(
+      {.cert = Tls("server.pem"), .key = Tls("server.key"), .ca = Tls("ca.pem")});
+  ASSERT_TRUE(server_credentials.ok()) << server_credentials.status();
+  tls_ = true;
+  Start(64 << 20, *server_credentials);
+
+  auto connect = [&](const services::TlsFiles& files) {
+    grpc::ChannelArguments arguments;
+    arguments.SetSslTargetNameOverride("fitbase-coordinator");
+    return v1::WorkerQueue::NewStub(grpc::CreateCustomChannel(
+        address_, *services::TlsChannelCredentials(files), arguments));
+  };
+  v1::LeaseTaskRequest lease;
+  lease.set_worker("probe");
+  v1::LeaseTaskResponse leased;
+  // No client certificate, one from another CA, and plaintext are all turned away.
+  for (const services::TlsFiles& files :
+       {services::TlsFiles{.cert = {}, .key = {}, .ca = Tls("ca.pem")},
+        services::TlsFiles{.cert = Tls("intruder.pem"), .key = Tls("intruder.key"),
+                           .ca = Tls("ca.pem")}}) {
+    EXPECT_EQ(connect(files)->LeaseTask(Call(TestKeys::kWorker, 5).get(), lease, &leased)
+                  .error_code(),
+              grpc::StatusCode::UNAVAILABLE);
+  }
+  EXPECT_EQ(v1::WorkerQueue::NewStub(services::OpenChannel(address_))
+                ->LeaseTask(Call(TestKeys::kWorker, 5).get(), lease, &leased)
+                .error_code(),
+            grpc::StatusCode::UNAVAILABLE);
+
+  auto worker_credentials = services::TlsChannelCredentials(
+      {.cert = Tls("worker.pem"), .key = Tls("worker.key"), .ca = Tls("ca.pem")});
+  ASSERT_TRUE(worker_credentials.ok()) << worker_credentials.status();
+  StartWorkers(2, *worker_credentials);
+  // Followed in process: the test's plaintext clients cannot reach this server.
+  services::BuildSnapshot snapshot;
+  do {
+    auto next = server_->coordinator().WaitForBuild("acme", build.build_id(), snapshot.revision,
+                                                    absl::Now() + absl::Seconds(120));
+    ASSERT_TRUE(next.ok()) << next.status();
+    snapshot = *std::move(next);
+  } while (snapshot.build.phase() == v1::BUILD_QUEUED ||
+           snapshot.build.phase() == v1::BUILD_RUNNING ||
+           snapshot.build.phase() == v1::BUILD_ASSEMBLING);
+  EXPECT_EQ(snapshot.build.phase(), v1::BUILD_SUCCEEDED) << snapshot.build.error();
 }
 
 }  // namespace

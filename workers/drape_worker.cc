@@ -31,6 +31,9 @@ DrapeWorker::DrapeWorker(DrapeWorkerOptions options) : options_(std::move(option
   arguments.SetMaxReceiveMessageSize(options_.max_message_bytes);
   arguments.SetMaxSendMessageSize(options_.max_message_bytes);
   // Reconnect quickly after a coordinator restart; the default backoff grows to two minutes.
+  if (!options_.tls_target_name.empty()) {
+    arguments.SetSslTargetNameOverride(options_.tls_target_name);
+  }
   arguments.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS,
                    static_cast<int>(absl::ToInt64Milliseconds(options_.backoff_last)));
   stub_ = v1::WorkerQueue::NewStub(grpc::CreateCustomChannel(

@@ -19,6 +19,9 @@ namespace fitbase::workers {
 struct DrapeWorkerOptions {
   std::string coordinator;  // host:port of the coordinator's WorkerQueue.
   std::shared_ptr<grpc::ChannelCredentials> credentials;  // Null: insecure.
+  // With TLS: the name the coordinator's certificate must carry, when it differs from the
+  // address's host (e.g. "fitbase-coordinator" reached as 127.0.0.1).
+  std::string tls_target_name;
   std::string api_key;      // Sent as x-api-key; a key of the worker role.
   int slots = 1;            // Drapes run side by side, each on one thread.
   std::string name;         // Names this worker in leases and logs; slots add "/<slot>".
