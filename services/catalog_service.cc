@@ -1,5 +1,8 @@
 #include "services/catalog_service.h"
 
+#include <algorithm>
+
+#include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "core/population_sampler.h"
 #include "core/status_macros.h"
@@ -101,7 +104,45 @@ absl::StatusOr<v1::AvatarBasis> BasisOfRequest(const core::BodyModel& model,
   return BuildAvatarBasis(population, selection);
 }
 
+// A checkpoint name that cannot leave the checkpoint folder.
+absl::Status CheckCheckpointName(absl::string_view name) {
+  const bool valid = !name.empty() && name.size() <= 64 && name[0] != '.' &&
+                     std::all_of(name.begin(), name.end(), [](char c) {
+                       return absl::ascii_isalnum(static_cast<unsigned char>(c)) || c == '.' ||
+                              c == '_' || c == '-';
+                     });
+  if (!valid) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "checkpoint name '", name, "' must be 1-64 of [A-Za-z0-9._-], not starting with '.'"));
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
+
+grpc::Status CatalogService::CreateCheckpoint(grpc::ServerContext* context,
+                                              const v1::CreateCheckpointRequest* request,
+                                              v1::CreateCheckpointResponse* response) {
+  absl::Status status = [&]() -> absl::Status {
+    ASSIGN_OR_RETURN(Principal principal, AuthenticateCall(*context, *keys_));
+    RETURN_IF_ERROR(RequireRole(principal, {}, "create checkpoints"));
+    RETURN_IF_ERROR(CheckCheckpointName(request->name()));
+    const std::filesystem::path dir = checkpoint_root_ / request->name();
+    if (std::filesystem::exists(dir)) {
+      return absl::AlreadyExistsError(absl::StrCat("checkpoint ", dir.string(), " exists"));
+    }
+    std::error_code error;
+    std::filesystem::create_directories(checkpoint_root_, error);
+    if (error) {
+      return absl::InternalError(
+          absl::StrCat("cannot create ", checkpoint_root_.string(), ": ", error.message()));
+    }
+    RETURN_IF_ERROR(store_->CreateCheckpoint(dir));
+    response->set_path(dir.string());
+    return absl::OkStatus();
+  }();
+  return ToGrpcStatus(status);
+}
 
 grpc::Status CatalogService::UploadGarment(grpc::ServerContext* context,
                                            const v1::UploadGarmentRequest* request,

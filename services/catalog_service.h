@@ -1,6 +1,8 @@
 #ifndef FITBASE_SERVICES_CATALOG_SERVICE_H_
 #define FITBASE_SERVICES_CATALOG_SERVICE_H_
 
+#include <filesystem>
+
 #include "core/body_model.h"
 #include "fitbase/v1/catalog.grpc.pb.h"
 #include "services/api_keys.h"
@@ -14,9 +16,10 @@ namespace fitbase::services {
 class CatalogService final : public v1::Catalog::Service {
  public:
   // `model`: the MakeHuman body model that garments are bound to and populations sampled from.
+  // `checkpoint_root`: where CreateCheckpoint writes (on the store's file system).
   CatalogService(storage::AssetStore* store, const core::BodyModel* model,
-                 const ApiKeyRegistry* keys)
-      : store_(store), model_(model), keys_(keys) {}
+                 const ApiKeyRegistry* keys, std::filesystem::path checkpoint_root)
+      : store_(store), model_(model), keys_(keys), checkpoint_root_(std::move(checkpoint_root)) {}
 
   grpc::Status UploadGarment(grpc::ServerContext* context,
                              const v1::UploadGarmentRequest* request,
@@ -29,11 +32,15 @@ class CatalogService final : public v1::Catalog::Service {
   grpc::Status GetAvatarBasis(grpc::ServerContext* context,
                               const v1::GetAvatarBasisRequest* request,
                               v1::AvatarBasis* response) override;
+  grpc::Status CreateCheckpoint(grpc::ServerContext* context,
+                                const v1::CreateCheckpointRequest* request,
+                                v1::CreateCheckpointResponse* response) override;
 
  private:
   storage::AssetStore* store_;
   const core::BodyModel* model_;
   const ApiKeyRegistry* keys_;
+  const std::filesystem::path checkpoint_root_;
 };
 
 }  // namespace fitbase::services

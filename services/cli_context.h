@@ -37,6 +37,7 @@ void AddServeCommand(CLI::App& app, CliContext& context);
 void AddBuildCommands(CLI::App& app, CliContext& context);
 void AddCustomerCommands(CLI::App& app, CliContext& context);
 void AddLoadtestCommand(CLI::App& app, CliContext& context);
+void AddStoreCommands(CLI::App& app, CliContext& context);
 
 }  // namespace fitbase::services
 

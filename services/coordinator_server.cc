@@ -24,8 +24,12 @@ absl::StatusOr<std::unique_ptr<CoordinatorServer>> CoordinatorServer::Start(
   server->model_ = std::make_unique<core::BodyModel>(std::move(model));
   server->coordinator_service_ = std::make_unique<CoordinatorService>(&server->slot_, &o.keys);
   server->worker_queue_service_ = std::make_unique<WorkerQueueService>(&server->slot_, &o.keys);
-  server->catalog_service_ = std::make_unique<CatalogService>(server->store_.get(),
-                                                              server->model_.get(), &o.keys);
+  // Beside the store, never inside it: "store/" names the same folder as "store".
+  std::filesystem::path db = o.db.lexically_normal();
+  if (!db.has_filename()) db = db.parent_path();
+  server->catalog_service_ = std::make_unique<CatalogService>(
+      server->store_.get(), server->model_.get(), &o.keys,
+      db.parent_path() / (db.filename().string() + "-checkpoints"));
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();

@@ -74,10 +74,11 @@ absl::Status RunFit(const CustomerFlags& flags) {
   RETURN_IF_ERROR(client.WriteObj(fitted, flags.out));
   std::cout << absl::StrFormat(
       "%s size %s (%s, clothing basis %.12s v%d): %d bytes of positions, %d vertices pushed "
-      "out\nwrote %s\n",
+      "out, %.0f us to fit\nwrote %s\n",
       fitted.garment_id().substr(0, 12), fitted.size(), fitted.method(),
       fitted.clothing_basis_id(), fitted.clothing_basis_version(),
-      fitted.positions().ByteSizeLong(), fitted.metrics().vertices_pushed_out(), flags.out);
+      fitted.positions().ByteSizeLong(), fitted.metrics().vertices_pushed_out(),
+      fitted.metrics().compute_us(), flags.out);
   return absl::OkStatus();
 }
 

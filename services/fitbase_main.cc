@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   fitbase::services::AddBuildCommands(app, context);
   fitbase::services::AddCustomerCommands(app, context);
   fitbase::services::AddLoadtestCommand(app, context);
+  fitbase::services::AddStoreCommands(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

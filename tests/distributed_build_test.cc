@@ -451,6 +451,35 @@ TEST_F(DistributedBuildTest, UploadImportsTheGarmentOnTheServer) {
   EXPECT_EQ(*server_->store().ListGarmentIds("rival"), std::vector<std::string>{garment_.id()});
 }
 
+TEST_F(DistributedBuildTest, AdminsCheckpointTheStoreAsAReadOnlyReplica) {
+  v1::CreateCheckpointRequest request;
+  request.set_name("nightly");
+  v1::CreateCheckpointResponse response;
+  EXPECT_EQ(clients_->catalog->CreateCheckpoint(Call(TestKeys::kIngestion).get(), request,
+                                                &response)
+                .error_code(),
+            grpc::StatusCode::PERMISSION_DENIED);
+  for (const char* name : {"", "../escape", ".hidden", "a/b"}) {
+    request.set_name(name);
+    EXPECT_EQ(clients_->catalog->CreateCheckpoint(Call(TestKeys::kAdmin).get(), request,
+                                                  &response)
+                  .error_code(),
+              grpc::StatusCode::INVALID_ARGUMENT)
+        << name;
+  }
+  request.set_name("nightly");
+  const grpc::Status status =
+      clients_->catalog->CreateCheckpoint(Call(TestKeys::kAdmin).get(), request, &response);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_EQ(response.path(), (db_.string() + "-checkpoints/nightly"));
+  EXPECT_EQ(clients_->catalog->CreateCheckpoint(Call(TestKeys::kAdmin).get(), request, &response)
+                .error_code(),
+            grpc::StatusCode::ALREADY_EXISTS);
+  auto replica = storage::AssetStore::Open(response.path(), {.mode = storage::OpenMode::kReadOnly});
+  ASSERT_TRUE(replica.ok()) << replica.status();
+  EXPECT_EQ(*(*replica)->ListGarmentIds("acme"), std::vector<std::string>{garment_.id()});
+}
+
 std::filesystem::path Tls(const std::string& name) {
   return std::filesystem::path(FITBASE_SOURCE_DIR) / "tests/testdata/tls" / name;
 }
