@@ -9,12 +9,12 @@
 #include "absl/strings/ascii.h"
 #include "absl/strings/escaping.h"
 #include "absl/strings/str_cat.h"
-#include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "core/content_hash.h"
 #include "core/file_util.h"
 #include "core/status_macros.h"
 #include "core/text_tokens.h"
+#include "storage/record_key.h"
 
 namespace fitbase::services {
 namespace {
@@ -22,9 +22,6 @@ namespace {
 // Indexed by Role.
 constexpr absl::string_view kRoleNames[] = {"customer", "ingestion", "admin", "worker"};
 static_assert(std::size(kRoleNames) == static_cast<size_t>(Role::kWorker) + 1);
-
-// storage::kMaxIdBytes.
-constexpr size_t kMaxTenantBytes = 256;
 
 constexpr absl::string_view kKeyPrefix = "fb_";
 // 256 bits: guessing is hopeless, so keys need no rate limiting or expiry to stay secret.
@@ -55,19 +52,7 @@ absl::StatusOr<Role> ParseRole(absl::string_view name) {
 absl::string_view RoleName(Role role) { return kRoleNames[static_cast<size_t>(role)]; }
 
 absl::Status ValidateTenantId(absl::string_view tenant) {
-  if (tenant.empty()) return absl::InvalidArgumentError("tenant is empty");
-  if (tenant.size() > kMaxTenantBytes) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("tenant is ", tenant.size(), " bytes, more than ", kMaxTenantBytes));
-  }
-  for (size_t i = 0; i < tenant.size(); ++i) {
-    const unsigned char c = static_cast<unsigned char>(tenant[i]);
-    if (c < 0x21 || c > 0x7E) {
-      return absl::InvalidArgumentError(absl::StrFormat(
-          "tenant has byte 0x%02X at offset %d; ids are printable ASCII without space", c, i));
-    }
-  }
-  return absl::OkStatus();
+  return storage::ValidateId("tenant", tenant);
 }
 
 std::string HashApiKey(absl::string_view key) { return core::Sha256Hex(key); }

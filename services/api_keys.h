@@ -31,9 +31,9 @@ struct Principal {
   Role role = Role::kCustomer;
 };
 
-// OK when `tenant` is a valid tenant id; else INVALID_ARGUMENT saying what is wrong, with
-// any bad byte in hex. The rule is storage's id rule (storage/record_key.h), kept here so
-// that services reject at the door what storage would reject later.
+// OK when `tenant` is a valid tenant id (storage's id rule, storage/record_key.h); else
+// INVALID_ARGUMENT saying what is wrong: services reject at the door what storage would
+// reject later.
 absl::Status ValidateTenantId(absl::string_view tenant);
 
 // What a key file stores for a key: the lower-case hex SHA-256 of its bytes, so the file
