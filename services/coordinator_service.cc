@@ -11,8 +11,10 @@
 namespace fitbase::services {
 namespace {
 
-// Long-polls and watches answer at least this often, so a client learns of a lost server.
+// Long-polls answer at least this often, so a client learns of a lost server.
 constexpr absl::Duration kMaxWait = absl::Seconds(30);
+// A watch wakes at least this often to notice that its client went away.
+constexpr absl::Duration kWatchPoll = absl::Seconds(1);
 // Answered this long before the caller's deadline, so an empty answer arrives in time.
 constexpr absl::Duration kDeadlineMargin = absl::Milliseconds(200);
 
@@ -99,7 +101,7 @@ grpc::Status CoordinatorService::WatchBuild(grpc::ServerContext* context,
   bool first = true;
   while (!context->IsCancelled()) {
     absl::StatusOr<BuildSnapshot> snapshot = coordinator->WaitForBuild(
-        tenant, request->build_id(), seen, WaitDeadline(*context, kMaxWait));
+        tenant, request->build_id(), seen, WaitDeadline(*context, kWatchPoll));
     if (!snapshot.ok()) return ToGrpcStatus(snapshot.status());
     if (first || snapshot->revision > seen) {
       if (!writer->Write(snapshot->build)) return grpc::Status::CANCELLED;
