@@ -426,34 +426,36 @@ absl::StatusOr<ClothingBasisRecord> AssetStore::GetClothingBasis(const ClothingB
   return ReadClothingBasis(ReadView(*this), basis_key, version, DescribeClothingBasisKey(key));
 }
 
+absl::StatusOr<AssetStore::LogEntry> AssetStore::CurrentClothingVersion(
+    const ReadView& view, absl::string_view basis_key, absl::string_view name) const {
+  ASSIGN_OR_RETURN(std::optional<LogEntry> current,
+                   Newest(view, kClothingVersions, basis_key, name));
+  if (!current.has_value()) {
+    return absl::NotFoundError(absl::StrCat("current version of ", name, " not found"));
+  }
+  return *std::move(current);
+}
+
 absl::StatusOr<ClothingBasisRecord> AssetStore::GetCurrentClothingBasis(
     const ClothingBasisKey& key) const {
   ASSIGN_OR_RETURN(const std::string basis_key, EncodeClothingBasisKey(key));
   const std::string name = DescribeClothingBasisKey(key);
   const ReadView view(*this);
-  ASSIGN_OR_RETURN(std::optional<LogEntry> current,
-                   Newest(view, kClothingVersions, basis_key, name));
-  if (!current.has_value()) {
-    return absl::NotFoundError(absl::StrCat("current version of ", name, " not found"));
-  }
+  ASSIGN_OR_RETURN(LogEntry current, CurrentClothingVersion(view, basis_key, name));
   ASSIGN_OR_RETURN(std::string bytes,
                    ReadExisting(view, kClothingBases,
-                                absl::StrCat(basis_key, EncodeVersion(current->number)),
-                                absl::StrCat("version ", current->number, " of ", name)));
-  return ClothingBasisRecord{current->number, std::move(current->value), std::move(bytes)};
+                                absl::StrCat(basis_key, EncodeVersion(current.number)),
+                                absl::StrCat("version ", current.number, " of ", name)));
+  return ClothingBasisRecord{current.number, std::move(current.value), std::move(bytes)};
 }
 
 absl::StatusOr<ClothingBasisVersion> AssetStore::GetCurrentClothingBasisVersion(
     const ClothingBasisKey& key) const {
   ASSIGN_OR_RETURN(const std::string basis_key, EncodeClothingBasisKey(key));
-  const std::string name = DescribeClothingBasisKey(key);
   const ReadView view(*this);
-  ASSIGN_OR_RETURN(std::optional<LogEntry> current,
-                   Newest(view, kClothingVersions, basis_key, name));
-  if (!current.has_value()) {
-    return absl::NotFoundError(absl::StrCat("current version of ", name, " not found"));
-  }
-  return ClothingBasisVersion{current->number, std::move(current->value)};
+  ASSIGN_OR_RETURN(LogEntry current,
+                   CurrentClothingVersion(view, basis_key, DescribeClothingBasisKey(key)));
+  return ClothingBasisVersion{current.number, std::move(current.value)};
 }
 
 absl::StatusOr<std::vector<ClothingBasisVersion>> AssetStore::ListClothingBasisVersions(

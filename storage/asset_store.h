@@ -229,6 +229,10 @@ class AssetStore {
   // The records of `column` under `prefix` whose keys have one more id.
   absl::StatusOr<std::vector<JobRecord>> ListRecords(Column column, absl::string_view prefix,
                                                      absl::string_view what) const;
+  // The newest entry of the clothing basis's version index; NOT_FOUND naming it when none.
+  absl::StatusOr<LogEntry> CurrentClothingVersion(const ReadView& view,
+                                                  absl::string_view basis_key,
+                                                  absl::string_view name) const;
   absl::StatusOr<ClothingBasisRecord> ReadClothingBasis(const ReadView& view,
                                                         absl::string_view basis_key,
                                                         uint64_t version,
