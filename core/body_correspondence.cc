@@ -146,22 +146,26 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
   for (Eigen::Index v = 0; v < correspondence.vertex_count(); ++v) {
     Eigen::Map<Eigen::Vector3f> g(positions + 3 * v);
     Eigen::Vector3f point = Eigen::Vector3f::Zero();
-    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+    Eigen::Index nearest = -1;
     float best = std::numeric_limits<float>::infinity();
     for (Eigen::Index r = v * k; r < (v + 1) * k; ++r) {
-      const Eigen::Vector3f a = body.segment<3>(3 * correspondence.corners(r, 0));
-      const Eigen::Vector3f b = body.segment<3>(3 * correspondence.corners(r, 1));
-      const Eigen::Vector3f c = body.segment<3>(3 * correspondence.corners(r, 2));
-      const Eigen::Vector3f anchor = correspondence.barycentric(r, 0) * a +
-                                     correspondence.barycentric(r, 1) * b +
-                                     correspondence.barycentric(r, 2) * c;
+      const Eigen::Vector3f anchor =
+          correspondence.barycentric(r, 0) * body.segment<3>(3 * correspondence.corners(r, 0)) +
+          correspondence.barycentric(r, 1) * body.segment<3>(3 * correspondence.corners(r, 1)) +
+          correspondence.barycentric(r, 2) * body.segment<3>(3 * correspondence.corners(r, 2));
       const float distance = (g - anchor).squaredNorm();
       if (distance < best) {
         best = distance;
         point = anchor;
-        normal = (b - a).cross(c - a);
+        nearest = r;
       }
     }
+    if (nearest < 0) continue;
+    // Only the nearest anchor's plane is needed: its normal is computed once, not per anchor.
+    const Eigen::Vector3f a = body.segment<3>(3 * correspondence.corners(nearest, 0));
+    const Eigen::Vector3f b = body.segment<3>(3 * correspondence.corners(nearest, 1));
+    const Eigen::Vector3f c = body.segment<3>(3 * correspondence.corners(nearest, 2));
+    Eigen::Vector3f normal = (b - a).cross(c - a);
     const float length = normal.norm();
     if (!(length > 0)) continue;
     normal /= length;
