@@ -61,15 +61,6 @@ class ByteLruCache {
     if (auto it = index_.find(key); it != index_.end()) it->second->second.checked = when;
   }
 
-  size_t bytes() const {
-    std::lock_guard lock(mutex_);
-    return bytes_;
-  }
-  size_t size() const {
-    std::lock_guard lock(mutex_);
-    return index_.size();
-  }
-
  private:
   using List = std::list<std::pair<std::string, Entry>>;
   const size_t max_bytes_;

@@ -542,13 +542,6 @@ absl::Status Coordinator::FailAttemptLocked(Execution& execution, const std::str
   return CommitLocked(write, /*sync=*/true);
 }
 
-void Coordinator::WaitForAssemblies() {
-  std::unique_lock lock(mutex_);
-  builds_changed_.wait(lock, [&] {
-    return (assembly_queue_.empty() && !assembling_) || shutdown_ || !broken_.ok();
-  });
-}
-
 void Coordinator::RunAssembler() {
   std::unique_lock lock(mutex_);
   while (true) {
@@ -556,11 +549,9 @@ void Coordinator::RunAssembler() {
     if (shutdown_) return;
     const std::string build_id = assembly_queue_.front();
     assembly_queue_.pop_front();
-    assembling_ = true;
     lock.unlock();
     Assemble(build_id);
     lock.lock();
-    assembling_ = false;
     builds_changed_.notify_all();
   }
 }

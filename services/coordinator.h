@@ -100,8 +100,6 @@ class Coordinator {
   // how many. Lease() calls it; a server also calls it periodically.
   int ReapExpiredLeases();
 
-  // Blocks until no assembly is pending or running (for tests and orderly shutdown).
-  void WaitForAssemblies();
   // Wakes every waiting Lease and WaitForBuild, and stops the assembler.
   void Shutdown();
 
@@ -186,7 +184,6 @@ class Coordinator {
   uint64_t next_token_ = 1;
   uint64_t revision_ = 0;
   std::deque<std::string> assembly_queue_;
-  bool assembling_ = false;
   std::thread assembler_;
 };
 

@@ -27,10 +27,6 @@ FitCatalog::FitCatalog(const storage::AssetStore* store, const FitCatalogOptions
       avatar_bases_(options.max_bytes / 4),
       avatar_pointers_(size_t{1} << 20) {}
 
-size_t FitCatalog::cached_bytes() const {
-  return garments_.bytes() + clothing_.bytes() + avatar_bases_.bytes();
-}
-
 absl::StatusOr<std::shared_ptr<const ServedGarment>> FitCatalog::Garment(
     absl::string_view tenant, absl::string_view garment_id) {
   const std::string key = CacheKey({tenant, garment_id});

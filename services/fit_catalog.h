@@ -55,8 +55,6 @@ class FitCatalog {
   absl::StatusOr<std::shared_ptr<const LoadedAvatarBasis>> CurrentAvatarBasis(
       absl::string_view tenant, absl::string_view population);
 
-  size_t cached_bytes() const;
-
  private:
   absl::Time Now() const { return clock_->Now(); }
 

@@ -46,7 +46,7 @@ absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view 
                                          absl::string_view garment_id, absl::string_view size,
                                          absl::string_view method_name,
                                          v1::PositionsEncoding encoding, bool with_metrics,
-                                         bool cleanup, int draco_bits) {
+                                         bool cleanup) {
   const std::string method = method_name.empty() ? "linear" : std::string(method_name);
   RETURN_IF_ERROR(core::ParseClothingMethod(method).status());
   const auto& sizes = garment.topology.sizes();
@@ -101,9 +101,7 @@ absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view 
     for (int i = 0; i < order.size(); ++i) {
       for (int c = 0; c < 3; ++c) wire[3 * i + c] = xyz[3 * order[i] + c];
     }
-    proto::DracoSettings settings;
-    if (draco_bits > 0) settings.quantization_bits = draco_bits;
-    ASSIGN_OR_RETURN(*fitted.mutable_positions(), proto::EncodeDracoPositions(wire, settings));
+    ASSIGN_OR_RETURN(*fitted.mutable_positions(), proto::EncodeDracoPositions(wire));
   }
   if (with_metrics) {
     fitted.mutable_metrics()->set_vertices_pushed_out(static_cast<uint32_t>(pushed));
@@ -177,7 +175,7 @@ grpc::ServerUnaryReactor* FitService::FitGarment(grpc::CallbackServerContext* co
                      FitOne(*catalog_, principal.tenant, request->weights(), *garment,
                             request->garment_id(), request->size(), request->method(),
                             request->encoding(), request->with_metrics(),
-                            !request->skip_cleanup(), options_.draco_quantization_bits));
+                            !request->skip_cleanup()));
     return absl::OkStatus();
   }();
   return Answer(context, status);
@@ -210,7 +208,7 @@ grpc::ServerUnaryReactor* FitService::FitOutfit(grpc::CallbackServerContext* con
         absl::StatusOr<v1::FittedGarment> one =
             FitOne(*catalog_, principal.tenant, request->weights(), *garment, item.garment_id(),
                    size, item.method(), request->encoding(), request->with_metrics(),
-                   /*cleanup=*/true, options_.draco_quantization_bits);
+                   /*cleanup=*/true);
         // Every size: only those with a published clothing basis.
         if (item.size().empty() && absl::IsNotFound(one.status())) continue;
         if (!one.ok()) return one.status();

@@ -14,7 +14,6 @@ struct FitServiceOptions {
   // this many times the basis's training error, or a weight lies beyond this many sigma.
   double ood_error_ratio = 3.0;
   double ood_sigmas = 4.0;
-  int draco_quantization_bits = 0;  // 0: the codec's default.
 };
 
 // fitbase.v1.FitService on the callback API: every call is answered on gRPC's own threads

@@ -56,7 +56,6 @@ class DrapeWorker {
   void ReturnLeases();
 
   int64_t completed() const { return completed_.load(); }
-  int64_t failed() const { return failed_.load(); }
 
  private:
   struct ActiveLease {
