@@ -1,6 +1,6 @@
 // The distributed build's scaling on this machine:
 //   fitbase_build_bench --data DIR [--garment female_sportsuit01] [--components 10]
-//                       [--max-workers 2] [--homotopy-steps 30] [--relax-steps 60]
+//                       [--max-workers 2] [--homotopy-steps 30] [--relax-steps 10]
 // Builds one garment's size M (2N + 1 drapes) through a real coordinator on 127.0.0.1 with
 // 1, then 2, ... workers (one slot each, in this process), each run on a fresh store so no
 // drape is a cache hit, and prints per run the wall time of the drapes, the speed-up over one

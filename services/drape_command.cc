@@ -64,7 +64,7 @@ void AddDrapeScheduleOptions(CLI::App* command, workers::DrapeSchedule& schedule
       ->check(CLI::Range(0, 10000));
   command
       ->add_option("--relax-steps", schedule.relax_steps,
-                   "Drape steps relaxing on the target body (default: 60)")
+                   "Drape steps relaxing on the target body (default: 10)")
       ->check(CLI::Range(0, 10000));
 }
 

@@ -1,11 +1,10 @@
 #include "workers/cloth_solver.h"
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
 #include "Eigen/Geometry"
-#include <limits>
-#include <queue>
-#include <utility>
 
 namespace fitbase::workers {
 namespace {
@@ -14,10 +13,73 @@ namespace {
 // over that vertex: about the body's edge length.
 constexpr double kOwnSurfaceRadius = 0.02;
 // Body vertices this close to a garment triangle at the start of a step are checked against
-// it in every substep of the step.
+// it throughout the step.
 constexpr double kPokeSearch = 0.01;
+// How far a garment triangle must stay above a body vertex under it, m. Less than the
+// collision offset: between its corners (which keep the offset) a flat triangle over a convex
+// body sits lower, and asking more of it fights the corners' contacts.
+constexpr double kPokeClearance = 0.0005;
+// Armijo line search: sufficient decrease, and how often the step may be halved.
+constexpr double kArmijo = 1e-4;
+constexpr int kMaxHalvings = 12;
+
+// Gauss-Newton Hessian block of a spring: exact along the spring, and across it only while
+// stretched (a compressed spring's negative transverse stiffness is the buckling it should
+// be free to do, and would make the system indefinite).
+Eigen::Matrix3d SpringBlock(const Eigen::Vector3d& d, double length, double rest, double k) {
+  if (length < 1e-12) return k * Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d u = d / length;
+  const Eigen::Matrix3d along = u * u.transpose();
+  return k * (along + std::max(0.0, 1.0 - rest / length) * (Eigen::Matrix3d::Identity() - along));
+}
 
 }  // namespace
+
+// Where the 3 x 3 blocks the solver writes sit in the Hessian's value array: one block per
+// vertex, and one per pair of vertices that share a spring (a contact between a body vertex
+// and a garment triangle couples only the triangle's corners, which share edges). Only the
+// lower triangle is stored, which is what the Cholesky factorisation reads.
+class ClothSolver::HessianPattern {
+ public:
+  HessianPattern(Eigen::Index vertex_count, const std::vector<std::array<int32_t, 2>>& edges,
+                 const std::vector<std::array<int32_t, 2>>& bends,
+                 Eigen::SparseMatrix<double>* matrix) {
+    std::vector<Eigen::Triplet<double>> entries;
+    auto add_block = [&](int32_t i, int32_t j) {
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) entries.emplace_back(3 * i + a, 3 * j + b, 0.0);
+    };
+    for (int32_t v = 0; v < vertex_count; ++v) add_block(v, v);
+    for (const auto* pairs : {&edges, &bends}) {
+      for (const auto& [i, j] : *pairs) add_block(std::max(i, j), std::min(i, j));
+    }
+    matrix->resize(3 * vertex_count, 3 * vertex_count);
+    matrix->setFromTriplets(entries.begin(), entries.end());
+    matrix->makeCompressed();
+    outer_.assign(matrix->outerIndexPtr(), matrix->outerIndexPtr() + matrix->outerSize() + 1);
+    inner_.assign(matrix->innerIndexPtr(), matrix->innerIndexPtr() + matrix->nonZeros());
+  }
+
+  // Adds `block` at block row i, column j (and so its transpose at j, i).
+  void Add(int32_t i, int32_t j, const Eigen::Matrix3d& block, Eigen::VectorXd& values) const {
+    if (i < j) {
+      Add(j, i, block.transpose(), values);
+      return;
+    }
+    for (int b = 0; b < 3; ++b) {
+      const int column = 3 * j + b;
+      const auto begin = inner_.begin() + outer_[column];
+      const auto row = std::lower_bound(begin, inner_.begin() + outer_[column + 1], 3 * i);
+      const Eigen::Index at = row - inner_.begin();
+      // A diagonal block's upper entries are stored too but never read.
+      for (int a = 0; a < 3; ++a) values(at + a) += block(a, b);
+    }
+  }
+
+ private:
+  std::vector<int> outer_;
+  std::vector<int> inner_;
+};
 
 ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
                          Eigen::VectorXd edge_rest, Eigen::VectorXd bend_rest,
@@ -27,137 +89,205 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
       edge_rest_(std::move(edge_rest)),
       bend_rest_(std::move(bend_rest)),
       positions_(start),
-      previous_(start),
-      velocities_(core::Positions::Zero(start.rows(), 3)) {
+      step_start_(start) {
+  masses_ = Eigen::VectorXd::Zero(model.inverse_masses.size());
+  for (Eigen::Index v = 0; v < masses_.size(); ++v) {
+    if (model.inverse_masses(v) > 0) masses_(v) = 1.0 / model.inverse_masses(v);
+  }
   for (int32_t v : model.anchor_vertices) {
     const core::SurfacePoint hit = body.Closest(start.row(v).transpose(), 1.0);
     if (!hit.found) continue;
     anchors_.push_back({v, hit.triangle, hit.barycentric, start(v, 1) - hit.point.y()});
   }
-  BuildTethers();
+  for (Eigen::Index v = 0; v < start.rows(); ++v) {
+    if (masses_(v) == 0) continue;
+    const core::SurfacePoint hit = body.Closest(start.row(v).transpose(), 1.0);
+    if (!hit.found) continue;
+    ties_.push_back({static_cast<int32_t>(v), hit.triangle, hit.barycentric,
+                     start.row(v).transpose() - hit.point});
+  }
   // The model's triangles and the start positions were validated when the model was built.
   garment_bvh_.emplace(*core::TriangleBvh::Build(positions_, model_.triangles));
+  pattern_ = std::make_unique<HessianPattern>(start.rows(), model_.edges, model_.bends,
+                                              &hessian_);
+  cholesky_.analyzePattern(hessian_);
 }
 
-void ClothSolver::BuildTethers() {
-  // Multi-source Dijkstra from the anchors over the edges weighted by their rest lengths;
-  // ties break on vertex index, so the tethers are deterministic.
-  const int32_t n = static_cast<int32_t>(positions_.rows());
-  std::vector<std::vector<std::pair<int32_t, double>>> adjacency(n);
-  for (size_t e = 0; e < model_.edges.size(); ++e) {
-    const auto [i, j] = model_.edges[e];
-    adjacency[i].push_back({j, edge_rest_(static_cast<Eigen::Index>(e))});
-    adjacency[j].push_back({i, edge_rest_(static_cast<Eigen::Index>(e))});
-  }
-  std::vector<double> distance(n, std::numeric_limits<double>::infinity());
-  std::vector<int32_t> source(n, -1);
-  using Entry = std::pair<double, int32_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-  for (const AnchorBinding& a : anchors_) {
-    distance[a.vertex] = 0;
-    source[a.vertex] = a.vertex;
-    queue.push({0.0, a.vertex});
-  }
-  while (!queue.empty()) {
-    const auto [d, v] = queue.top();
-    queue.pop();
-    if (d > distance[v]) continue;
-    for (const auto& [u, length] : adjacency[v]) {
-      if (d + length < distance[u]) {
-        distance[u] = d + length;
-        source[u] = source[v];
-        queue.push({distance[u], u});
-      }
-    }
-  }
-  for (int32_t v = 0; v < n; ++v) {
-    if (source[v] >= 0 && source[v] != v && model_.inverse_masses(v) > 0) {
-      tethers_.push_back({v, source[v], distance[v]});
-    }
-  }
-}
+ClothSolver::~ClothSolver() = default;
 
 double ClothSolver::Step(const core::TriangleBvh& body) {
-  const core::Positions before = positions_;
-  const double h = settings_.step_seconds / settings_.substeps;
-  FindPokes(body);
+  step_start_ = positions_;
+  // Pokes are found once the body has come to rest, and kept: a contact set found anew at
+  // every step of a moving body makes the path, and so the result, depend on the step count.
+  if (pokes_body_.rows() != body.positions().rows() || body.positions() != pokes_body_) {
+    pokes_.clear();
+    pokes_body_ = body.positions();
+    pokes_found_ = false;
+  } else if (!pokes_found_) {
+    FindPokes(body);
+    pokes_found_ = true;
+  }
   floor_ = body.positions().col(1).minCoeff();
-  for (int s = 0; s < settings_.substeps; ++s) Substep(body, h);
-  return (positions_ - before).rowwise().norm().maxCoeff();
+  for (int i = 0; i < settings_.newton_iterations; ++i) {
+    if (!NewtonIteration(body)) break;
+  }
+  return (positions_ - step_start_).rowwise().norm().maxCoeff();
 }
 
-void ClothSolver::Substep(const core::TriangleBvh& body, double h) {
-  const Eigen::Index n = positions_.rows();
-  previous_ = positions_;
-  for (Eigen::Index v = 0; v < n; ++v) {
-    if (model_.inverse_masses(v) == 0) continue;
-    velocities_(v, 1) -= h * settings_.gravity;
-    positions_.row(v) += h * velocities_.row(v);
+bool ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
+  Evaluation here;
+  Evaluate(positions_, body, /*derivatives=*/true, &here);
+  Eigen::Map<Eigen::VectorXd>(hessian_.valuePtr(), hessian_.nonZeros()) = here.hessian;
+  cholesky_.factorize(hessian_);
+  if (cholesky_.info() != Eigen::Success) return false;
+  const Eigen::VectorXd direction = cholesky_.solve(-here.gradient);
+  const double slope = here.gradient.dot(direction);
+  if (!(slope < 0)) return false;
+  const Eigen::Map<const core::Positions> delta(direction.data(), positions_.rows(), 3);
+  double alpha = 1.0;
+  for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {
+    const core::Positions trial = positions_ + alpha * delta;
+    Evaluation there;
+    Evaluate(trial, body, /*derivatives=*/false, &there);
+    if (there.energy <= here.energy + kArmijo * alpha * slope) {
+      positions_ = trial;
+      return true;
+    }
   }
-  // With one sweep per substep the Lagrange multipliers start at zero each time, so the XPBD
-  // update reduces to -C / (w_i + w_j + alpha / h^2).
-  const double h2 = h * h;
-  SolvePairs(model_.edges, edge_rest_, settings_.stretch_compliance / h2);
-  SolvePairs(model_.bends, bend_rest_, settings_.bend_compliance / h2);
-  SolveAnchors(body, settings_.anchor_compliance / h2);
-  SolveTethers();
-  SolvePokes(body);
-  Collide(body, settings_.collision_search, /*with_friction=*/true);
-  const double keep = 1.0 - settings_.damping;
-  for (Eigen::Index v = 0; v < n; ++v) {
-    velocities_.row(v) = keep * (positions_.row(v) - previous_.row(v)) / h;
-  }
+  return false;
 }
 
-void ClothSolver::SolvePairs(const std::vector<std::array<int32_t, 2>>& pairs,
-                             const Eigen::VectorXd& rest, double alpha) {
-  const Eigen::VectorXd& w = model_.inverse_masses;
+void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& body,
+                           bool derivatives, Evaluation* out) const {
+  const Eigen::Index n = x.rows();
+  out->energy = 0;
+  if (derivatives) {
+    out->gradient = Eigen::VectorXd::Zero(3 * n);
+    out->hessian = Eigen::VectorXd::Zero(hessian_.nonZeros());
+  }
+  const double inertia = 1.0 / (settings_.step_seconds * settings_.step_seconds);
+  for (Eigen::Index v = 0; v < n; ++v) {
+    const double m = masses_(v);
+    if (m == 0) {
+      // Unused vertices stay where they are: a unit diagonal and no force.
+      if (derivatives) pattern_->Add(v, v, Eigen::Matrix3d::Identity(), out->hessian);
+      continue;
+    }
+    const Eigen::RowVector3d offset = x.row(v) - step_start_.row(v);
+    out->energy += 0.5 * m * inertia * offset.squaredNorm() + m * settings_.gravity * x(v, 1);
+    if (!derivatives) continue;
+    out->gradient.segment<3>(3 * v) += m * inertia * offset.transpose();
+    out->gradient(3 * v + 1) += m * settings_.gravity;
+    pattern_->Add(v, v, m * inertia * Eigen::Matrix3d::Identity(), out->hessian);
+  }
+  AddSprings(x, model_.edges, edge_rest_, settings_.stretch_stiffness, derivatives, out);
+  AddSprings(x, model_.bends, bend_rest_, settings_.bend_stiffness, derivatives, out);
+  const core::Positions& bp = body.positions();
+  const core::Triangles& bt = body.triangles();
+  for (const AnchorBinding& a : anchors_) {
+    if (masses_(a.vertex) == 0) continue;
+    const auto tri = bt.row(a.triangle);
+    const double surface_y = a.barycentric(0) * bp(tri(0), 1) +
+                             a.barycentric(1) * bp(tri(1), 1) + a.barycentric(2) * bp(tri(2), 1);
+    const double c = x(a.vertex, 1) - (surface_y + a.height_above);
+    out->energy += 0.5 * settings_.anchor_stiffness * c * c;
+    if (!derivatives) continue;
+    out->gradient(3 * a.vertex + 1) += settings_.anchor_stiffness * c;
+    Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
+    block(1, 1) = settings_.anchor_stiffness;
+    pattern_->Add(a.vertex, a.vertex, block, out->hessian);
+  }
+  for (const SkinTie& tie : ties_) {
+    const auto tri = bt.row(tie.triangle);
+    const Eigen::Vector3d a = bp.row(tri(0)).transpose(), b = bp.row(tri(1)).transpose(),
+                          c = bp.row(tri(2)).transpose();
+    const Eigen::Vector3d normal = (b - a).cross(c - a).normalized();
+    const Eigen::Vector3d target =
+        tie.barycentric(0) * a + tie.barycentric(1) * b + tie.barycentric(2) * c + tie.offset;
+    const Eigen::Matrix3d tangential =
+        Eigen::Matrix3d::Identity() - normal * normal.transpose();
+    const double k = settings_.skin_tie * masses_(tie.vertex);
+    const Eigen::Vector3d slip = tangential * (x.row(tie.vertex).transpose() - target);
+    out->energy += 0.5 * k * slip.squaredNorm();
+    if (!derivatives) continue;
+    out->gradient.segment<3>(3 * tie.vertex) += k * slip;
+    pattern_->Add(tie.vertex, tie.vertex, k * tangential, out->hessian);
+  }
+  AddContacts(x, body, derivatives, out);
+}
+
+void ClothSolver::AddSprings(const core::Positions& x,
+                             const std::vector<std::array<int32_t, 2>>& pairs,
+                             const Eigen::VectorXd& rest, double stiffness, bool derivatives,
+                             Evaluation* out) const {
   for (size_t e = 0; e < pairs.size(); ++e) {
     const auto [i, j] = pairs[e];
-    const double wsum = w(i) + w(j);
-    if (wsum == 0) continue;
-    const Eigen::RowVector3d d = positions_.row(i) - positions_.row(j);
+    const Eigen::Vector3d d = (x.row(i) - x.row(j)).transpose();
     const double length = d.norm();
-    if (length < 1e-12) continue;
-    const double lambda = -(length - rest(static_cast<Eigen::Index>(e))) / (wsum + alpha);
-    const Eigen::RowVector3d correction = (lambda / length) * d;
-    positions_.row(i) += w(i) * correction;
-    positions_.row(j) -= w(j) * correction;
+    const double r = rest(static_cast<Eigen::Index>(e));
+    out->energy += 0.5 * stiffness * (length - r) * (length - r);
+    if (!derivatives) continue;
+    const Eigen::Vector3d force =
+        length < 1e-12 ? Eigen::Vector3d(stiffness * d) : Eigen::Vector3d(stiffness * (length - r) / length * d);
+    out->gradient.segment<3>(3 * i) += force;
+    out->gradient.segment<3>(3 * j) -= force;
+    const Eigen::Matrix3d k = SpringBlock(d, length, r, stiffness);
+    Eigen::VectorXd& h = out->hessian;
+    pattern_->Add(i, i, k, h);
+    pattern_->Add(j, j, k, h);
+    pattern_->Add(i, j, -k, h);
   }
 }
 
-void ClothSolver::SolveAnchors(const core::TriangleBvh& body, double alpha) {
-  const core::Positions& p = body.positions();
-  const core::Triangles& t = body.triangles();
-  for (const AnchorBinding& a : anchors_) {
-    const double w = model_.inverse_masses(a.vertex);
-    if (w == 0) continue;
-    const auto tri = t.row(a.triangle);
-    const double surface_y = a.barycentric(0) * p(tri(0), 1) + a.barycentric(1) * p(tri(1), 1) +
-                             a.barycentric(2) * p(tri(2), 1);
-    const double c = positions_(a.vertex, 1) - (surface_y + a.height_above);
-    positions_(a.vertex, 1) += w * (-c / (w + alpha));
-  }
-}
-
-void ClothSolver::Collide(const core::TriangleBvh& body, double search, bool with_friction) {
-  for (Eigen::Index v = 0; v < positions_.rows(); ++v) {
-    if (model_.inverse_masses(v) == 0) continue;
-    if (positions_(v, 1) < floor_ + settings_.collision_offset) {
-      positions_(v, 1) = floor_ + settings_.collision_offset;
-      if (with_friction) {
-        positions_(v, 0) -= settings_.friction * (positions_(v, 0) - previous_(v, 0));
-        positions_(v, 2) -= settings_.friction * (positions_(v, 2) - previous_(v, 2));
+void ClothSolver::AddContacts(const core::Positions& x, const core::TriangleBvh& body,
+                              bool derivatives, Evaluation* out) const {
+  const double k = settings_.contact_stiffness;
+  const double offset = settings_.collision_offset;
+  Eigen::VectorXd& h = out->hessian;
+  for (Eigen::Index v = 0; v < x.rows(); ++v) {
+    if (masses_(v) == 0) continue;
+    const double floor_depth = floor_ + offset - x(v, 1);
+    if (floor_depth > 0) {
+      out->energy += 0.5 * k * floor_depth * floor_depth;
+      if (derivatives) {
+        out->gradient(3 * v + 1) -= k * floor_depth;
+        Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
+        block(1, 1) = k;
+        pattern_->Add(v, v, block, h);
       }
     }
-    const core::SurfacePoint hit = body.Closest(positions_.row(v).transpose(), search);
-    if (!hit.found || hit.signed_distance >= settings_.collision_offset) continue;
-    positions_.row(v) = (hit.point + settings_.collision_offset * hit.normal).transpose();
-    if (!with_friction) continue;
-    // Coulomb-like: remove a share of this substep's slip along the surface.
-    const Eigen::Vector3d slip = (positions_.row(v) - previous_.row(v)).transpose();
-    const Eigen::Vector3d tangential = slip - slip.dot(hit.normal) * hit.normal;
-    positions_.row(v) -= settings_.friction * tangential.transpose();
+    const Eigen::Vector3d p = x.row(v).transpose();
+    const core::SurfacePoint hit = body.Closest(p, settings_.collision_search);
+    if (!hit.found || hit.signed_distance >= offset) continue;
+    const double depth = offset - hit.signed_distance;
+    out->energy += 0.5 * k * depth * depth;
+    if (!derivatives) continue;
+    // The signed distance's gradient: away from the closest point, or the pseudo-normal on
+    // the surface itself.
+    const Eigen::Vector3d normal = std::abs(hit.signed_distance) > 1e-9
+                                       ? Eigen::Vector3d((p - hit.point) / hit.signed_distance)
+                                       : hit.normal;
+    out->gradient.segment<3>(3 * v) -= k * depth * normal;
+    pattern_->Add(v, v, k * normal * normal.transpose(), h);
+  }
+  for (const Poke& poke : pokes_) {
+    const auto tri = model_.triangles.row(poke.triangle);
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 3; ++c) point += poke.barycentric(c) * x.row(tri(c)).transpose();
+    const double height =
+        (point - body.positions().row(poke.body_vertex).transpose()).dot(poke.normal);
+    const double depth = kPokeClearance - height;
+    if (depth <= 0) continue;
+    out->energy += 0.5 * k * depth * depth;
+    if (!derivatives) continue;
+    for (int a = 0; a < 3; ++a) {
+      out->gradient.segment<3>(3 * tri(a)) -= k * depth * poke.barycentric(a) * poke.normal;
+      for (int b = 0; b <= a; ++b) {
+        const Eigen::Matrix3d block = k * poke.barycentric(a) * poke.barycentric(b) *
+                                      poke.normal * poke.normal.transpose();
+        pattern_->Add(tri(a), tri(b), block, h);
+      }
+    }
   }
 }
 
@@ -173,86 +303,38 @@ void ClothSolver::FindPokes(const core::TriangleBvh& body) {
                                      .cross(bp.row(bt(t, 2)) - bp.row(bt(t, 0)));
     for (int k = 0; k < 3; ++k) normals.row(bt(t, k)) += n;
   }
-  const double reach = kPokeSearch;
-  const Eigen::RowVector3d lo = positions_.colwise().minCoeff().array() - reach;
-  const Eigen::RowVector3d hi = positions_.colwise().maxCoeff().array() + reach;
+  const Eigen::RowVector3d lo = positions_.colwise().minCoeff().array() - kPokeSearch;
+  const Eigen::RowVector3d hi = positions_.colwise().maxCoeff().array() + kPokeSearch;
   for (Eigen::Index b = 0; b < bp.rows(); ++b) {
     const Eigen::RowVector3d p = bp.row(b);
     if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
     const double norm = normals.row(b).norm();
     if (norm == 0) continue;
-    const Eigen::Vector3d n = normals.row(b).transpose() / norm;
-    const core::SurfacePoint hit = garment_bvh_->Closest(p.transpose(), reach);
+    const core::SurfacePoint hit = garment_bvh_->Closest(p.transpose(), kPokeSearch);
     if (!hit.found) continue;
     // In a crease (armpit, crotch) the triangle may belong to the garment over the facing
     // surface; it is this vertex's only if the body under it is near this vertex.
     const core::SurfacePoint under = body.Closest(hit.point, settings_.collision_search);
     if (!under.found || (under.point - p.transpose()).norm() > kOwnSurfaceRadius) continue;
-    pokes_.push_back({static_cast<int32_t>(b), hit.triangle, n});
+    // Only a triangle over the vertex (its closest point inside, not on a side) is poked.
+    if ((hit.barycentric.array() <= 0).any()) continue;
+    pokes_.push_back(
+        {static_cast<int32_t>(b), hit.triangle, hit.barycentric, normals.row(b).transpose() / norm});
   }
 }
 
-void ClothSolver::SolvePokes(const core::TriangleBvh& body) {
-  const double offset = settings_.collision_offset;
-  // Each garment vertex takes the largest push any body vertex asks of it: many body vertices
-  // under one coarse triangle would otherwise add up their pushes.
-  std::vector<std::pair<int32_t, Eigen::RowVector3d>> pushes;
-  for (const Poke& poke : pokes_) {
-    const Eigen::Vector3d p = body.positions().row(poke.body_vertex).transpose();
-    const auto tri = model_.triangles.row(poke.triangle);
-    const Eigen::Vector3d a = positions_.row(tri(0)).transpose();
-    const Eigen::Vector3d e1 = positions_.row(tri(1)).transpose() - a;
-    const Eigen::Vector3d e2 = positions_.row(tri(2)).transpose() - a;
-    // Barycentric coordinates of the body vertex's projection on the triangle's plane; only
-    // a triangle over the vertex (not one beside it) can be poked through.
-    const double d00 = e1.dot(e1), d01 = e1.dot(e2), d11 = e2.dot(e2);
-    const double det = d00 * d11 - d01 * d01;
-    if (det <= 0) continue;
-    const Eigen::Vector3d r = p - a;
-    const double v = (d11 * e1.dot(r) - d01 * e2.dot(r)) / det;
-    const double w = (d00 * e2.dot(r) - d01 * e1.dot(r)) / det;
-    const Eigen::Vector3d bary(1 - v - w, v, w);
-    if ((bary.array() < 0).any()) continue;
-    const double height = (a + v * e1 + w * e2 - p).dot(poke.normal);
-    if (height >= offset) continue;
-    double weight_sum = 0;
-    for (int k = 0; k < 3; ++k) weight_sum += model_.inverse_masses(tri(k)) * bary(k) * bary(k);
-    if (weight_sum == 0) continue;
-    const double push = (offset - height) / weight_sum;
-    for (int k = 0; k < 3; ++k) {
-      pushes.push_back({tri(k), (push * model_.inverse_masses(tri(k)) * bary(k)) *
-                                    poke.normal.transpose()});
-    }
-  }
-  // Largest push per vertex, applied in vertex order so the result does not depend on the
-  // order the pokes were found in.
-  std::stable_sort(pushes.begin(), pushes.end(),
-                   [](const auto& x, const auto& y) { return x.first < y.first; });
-  for (size_t i = 0; i < pushes.size();) {
-    size_t j = i;
-    Eigen::RowVector3d largest = pushes[i].second;
-    for (; j < pushes.size() && pushes[j].first == pushes[i].first; ++j) {
-      if (pushes[j].second.squaredNorm() > largest.squaredNorm()) largest = pushes[j].second;
-    }
-    positions_.row(pushes[i].first) += largest;
-    i = j;
-  }
-}
-
-void ClothSolver::SolveTethers() {
-  for (const Tether& t : tethers_) {
-    const Eigen::RowVector3d d = positions_.row(t.vertex) - positions_.row(t.anchor);
-    const double length = d.norm();
-    if (length > t.max_distance) {
-      positions_.row(t.vertex) = positions_.row(t.anchor) + (t.max_distance / length) * d;
-    }
-  }
-}
-
-int ClothSolver::ResolveCollisions(const core::TriangleBvh& body, double search) {
+int ClothSolver::ResolveCollisions(const core::TriangleBvh& body, double search,
+                                   double below) {
   const core::Positions before = positions_;
   floor_ = body.positions().col(1).minCoeff();
-  Collide(body, search, /*with_friction=*/false);
+  const double offset = settings_.collision_offset;
+  for (Eigen::Index v = 0; v < positions_.rows(); ++v) {
+    if (masses_(v) == 0) continue;
+    if (positions_(v, 1) < floor_ + below) positions_(v, 1) = floor_ + offset;
+    const core::SurfacePoint hit = body.Closest(positions_.row(v).transpose(), search);
+    if (!hit.found || hit.signed_distance >= below) continue;
+    positions_.row(v) = (hit.point + offset * hit.normal).transpose();
+  }
   return static_cast<int>(((positions_ - before).rowwise().squaredNorm().array() > 0).count());
 }
 

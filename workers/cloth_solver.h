@@ -2,102 +2,134 @@
 #define FITBASE_WORKERS_CLOTH_SOLVER_H_
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "Eigen/Core"
+#include "Eigen/SparseCholesky"
 #include "core/mesh.h"
 #include "core/triangle_bvh.h"
 #include "workers/cloth_model.h"
 
 namespace fitbase::workers {
 
-// Physical and numerical settings of the drape. Distances in meters, times in seconds.
+// Physical and numerical settings of the drape. Distances in meters, forces in newtons.
 struct ClothSettings {
-  double step_seconds = 1.0 / 30.0;
-  int substeps = 16;
-  double gravity = 9.81;        // Along -y.
+  // Time step of the implicit (backward Euler) steps, s. Velocities are dropped after every
+  // step, so the mass term only keeps each step's minimisation well posed (a garment may
+  // slide freely around a limb): a longer step converges faster, a shorter one moves less.
+  double step_seconds = 1.0;
+  // Newton iterations per step, each a sparse Cholesky solve plus a backtracking line search.
+  int newton_iterations = 4;
+  double gravity = 9.81;        // Along -y, m/s^2.
   double areal_density = 0.15;  // kg/m^2, a light woven fabric.
-  // XPBD compliances (inverse stiffness), m/N: near-inextensible stretch, soft bending.
-  double stretch_compliance = 1e-8;
-  double bend_compliance = 2e-4;
-  double anchor_compliance = 1e-6;
-  // Share of the velocity removed per substep: quasi-static drapes want strong damping.
-  double damping = 0.1;
+  // Spring constants, N/m. A spring of rest length r along an edge of roughly square cloth
+  // stands for a strip about r wide, so one constant for all edges is a uniform material.
+  double stretch_stiffness = 2e4;  // Every triangle edge (quad diagonals shear).
+  double bend_stiffness = 20;      // Across every interior edge, between the opposite corners.
+  double anchor_stiffness = 20;    // Keeps a top opening's height on the body.
+  // Stiction, N/m per kg of cloth: each vertex is held, along the body surface only, to the
+  // point of the skin it started over, as it moves with the body. Without it a frictionless
+  // garment has a continuum of resting places (it may slide around a limb or settle a fold to
+  // either side) and the path decides; with it the drape is one smooth function of the body.
+  // Weak next to the stretch springs: it does not stop a garment stretching or lifting off.
+  double skin_tie = 1e5;
+  // Contact: energy k/2 * depth^2 for a vertex `depth` inside the offset, N/m. Quadratic, so
+  // that Newton resolves a contact in one iteration (a smoother cubic converges linearly).
+  double contact_stiffness = 1e7;
   double collision_offset = 0.0025;
   double collision_search = 0.03;  // Penetrations deeper than this are not seen.
-  double friction = 0.1;           // Share of tangential slip removed on contact.
 };
 
-// Extended position-based dynamics (Macklin, Mueller, Chentanez 2016) with small steps: one
-// Gauss-Seidel sweep per substep over stretch, bend and anchor constraints in a fixed order,
-// then body collisions, so a run is bitwise reproducible.
+// Quasi-static cloth: every step minimises the garment's elastic, gravity, stiction and contact
+// energy plus a mass-weighted proximity term to the previous step (a backward Euler step from
+// rest) by a fixed number of Newton iterations (sparse Cholesky with a fill-reducing ordering
+// computed once, Armijo backtracking). A global solve keeps near-inextensible edges at their
+// length where a few local (Gauss-Seidel, XPBD) sweeps leave them stretched. Everything runs
+// in a fixed order, so a run is bitwise reproducible.
 class ClothSolver {
  public:
-  // `start` (V x 3, m) on the body `body`; rest lengths per model.edges and model.bends.
+  // `start` (V x 3, m) on the body `body`; rest lengths per model.edges and model.bends (m).
   // Anchors are bound to the body surface nearest them on `body`.
   ClothSolver(const ClothModel& model, const core::Positions& start, Eigen::VectorXd edge_rest,
               Eigen::VectorXd bend_rest, const core::TriangleBvh& body,
               const ClothSettings& settings);
 
-  // Advances one step with the body as `body` now is (the caller refits it between steps).
-  // Returns the largest vertex move of the step, meters.
+  // One step with the body as `body` now is (the caller refits it between steps). Returns
+  // the largest vertex move of the step, meters.
   double Step(const core::TriangleBvh& body);
 
-  // Pushes every vertex closer than the offset (or inside, up to `search` deep) out to the
-  // offset along the body's pseudo-normal; returns how many moved.
-  int ResolveCollisions(const core::TriangleBvh& body, double search);
+  // Pushes every vertex closer to the body than `below` (or inside, up to `search` deep) out
+  // to the collision offset along the body's pseudo-normal; returns how many moved.
+  int ResolveCollisions(const core::TriangleBvh& body, double search, double below);
 
   const core::Positions& positions() const { return positions_; }
 
+  ~ClothSolver();
+
  private:
+  struct SkinTie {
+    int32_t vertex;
+    int32_t triangle;
+    Eigen::Vector3d barycentric;
+    Eigen::Vector3d offset;  // Start position minus the bound surface point, m.
+  };
   struct AnchorBinding {
     int32_t vertex;
     int32_t triangle;
     Eigen::Vector3d barycentric;
     double height_above;  // Vertex height minus the bound surface point's height, m.
   };
+  // A body vertex under a garment triangle: vertex-only contact lets a coarse triangle cut
+  // through a convex body between its corners, so the triangle's point over the body vertex
+  // (fixed barycentric coordinates) keeps a clearance too. Found when the body stops moving.
+  struct Poke {
+    int32_t body_vertex;
+    int32_t triangle;
+    Eigen::Vector3d barycentric;
+    Eigen::Vector3d normal;  // The body vertex's outward normal.
+  };
+  // Energy, gradient and Gauss-Newton Hessian of the garment at `x` (V x 3).
+  struct Evaluation {
+    double energy = 0;
+    Eigen::VectorXd gradient;  // 3V.
+    Eigen::VectorXd hessian;   // Values of hessian_'s entries.
+  };
+  class HessianPattern;
 
-  void Substep(const core::TriangleBvh& body, double h);
-  void SolvePairs(const std::vector<std::array<int32_t, 2>>& pairs, const Eigen::VectorXd& rest,
-                  double alpha);
-  void SolveAnchors(const core::TriangleBvh& body, double alpha);
-  // Long-range attachments (Kim, Chentanez, Mueller 2012): no vertex may be farther from its
-  // nearest anchor than their rest geodesic distance, which stops the sag-stretch that a few
-  // Gauss-Seidel sweeps leave in a garment hanging from its waistband.
-  void SolveTethers();
-  void BuildTethers();
-  // Garment triangles that body vertices may poke through (vertex-only collision lets
-  // coarse triangles cut through a convex body between their corners): found once per step,
-  // resolved every substep by SolvePokes.
   void FindPokes(const core::TriangleBvh& body);
-  void SolvePokes(const core::TriangleBvh& body);
-  void Collide(const core::TriangleBvh& body, double search, bool with_friction);
+  // With `derivatives` false only the energy is computed (for the line search).
+  void Evaluate(const core::Positions& x, const core::TriangleBvh& body, bool derivatives,
+                Evaluation* out) const;
+  void AddSprings(const core::Positions& x, const std::vector<std::array<int32_t, 2>>& pairs,
+                  const Eigen::VectorXd& rest, double stiffness, bool derivatives,
+                  Evaluation* out) const;
+  void AddContacts(const core::Positions& x, const core::TriangleBvh& body, bool derivatives,
+                   Evaluation* out) const;
+  // One Newton iteration towards the step's minimum; returns false when it made no progress.
+  bool NewtonIteration(const core::TriangleBvh& body);
 
   const ClothModel& model_;
   ClothSettings settings_;
   Eigen::VectorXd edge_rest_;
   Eigen::VectorXd bend_rest_;
+  Eigen::VectorXd masses_;  // Per vertex, kg; 0 for vertices no face uses (they never move).
   std::vector<AnchorBinding> anchors_;
-  struct Tether {
-    int32_t vertex;
-    int32_t anchor;
-    double max_distance;  // Rest geodesic distance to the anchor, m.
-  };
-  std::vector<Tether> tethers_;
+  std::vector<SkinTie> ties_;
+  std::vector<Poke> pokes_;
   std::optional<core::TriangleBvh> garment_bvh_;
   // The floor the body stands on (its lowest point), m: long hems rest on it instead of
-  // swinging under the feet.
+  // hanging through it under the feet.
   double floor_ = 0;
-  struct Poke {
-    int32_t body_vertex;
-    int32_t triangle;
-    Eigen::Vector3d normal;  // The body vertex's outward normal.
-  };
-  std::vector<Poke> pokes_;
   core::Positions positions_;
-  core::Positions previous_;
-  core::Positions velocities_;
+  core::Positions step_start_;
+  core::Positions pokes_body_;  // The body of the previous step.
+  bool pokes_found_ = false;  // Where the current step began: the proximity term's centre.
+  // The Hessian's sparsity never changes, so its fill-reducing ordering is computed once.
+  Eigen::SparseMatrix<double> hessian_;
+  std::unique_ptr<const HessianPattern> pattern_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> cholesky_;
 };
 
 }  // namespace fitbase::workers

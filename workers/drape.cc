@@ -59,8 +59,11 @@ absl::StatusOr<DrapeResult> Drape(const DrapeInput& in, const ClothSettings& set
   if (schedule.homotopy_steps == 0) body.Refit(in.target_body);
   double last_move = 0;
   for (int step = 0; step < schedule.relax_steps; ++step) last_move = solver.Step(body);
-  // The last substep's friction and constraints may leave a vertex a hair inside the offset.
-  for (int pass = 0; pass < 4 && solver.ResolveCollisions(body, kTemplatePushSearch) > 0; ++pass) {
+  // Contact is a penalty, so a vertex pressed hard may sit a little inside the offset; one
+  // deep enough to count as penetrating is put back on it.
+  for (int pass = 0;
+       pass < 4 && solver.ResolveCollisions(body, kTemplatePushSearch, kPenetrationDistance) > 0;
+       ++pass) {
   }
   result.positions = solver.positions();
   result.steps = schedule.homotopy_steps + schedule.relax_steps;

@@ -19,7 +19,7 @@ namespace fitbase::workers {
 // never used to stop early (an adaptive stop makes results jump between nearby bodies).
 struct DrapeSchedule {
   int homotopy_steps = 30;
-  int relax_steps = 60;
+  int relax_steps = 10;
 };
 
 struct DrapeInput {

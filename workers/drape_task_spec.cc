@@ -11,7 +11,7 @@ namespace {
 
 // Bounds that keep a malformed spec from making a worker run for hours or allocate without
 // limit; real schedules are a few dozen steps.
-constexpr uint32_t kMaxSubsteps = 1000;
+constexpr uint32_t kMaxNewtonIterations = 1000;
 constexpr uint32_t kMaxScheduleSteps = 100000;
 
 absl::Status CheckPositive(const char* name, double value) {
@@ -43,16 +43,16 @@ absl::Status CheckCount(const char* name, uint32_t value, uint32_t low, uint32_t
 v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedule& schedule) {
   v1::DrapeSettings proto;
   proto.set_step_seconds(s.step_seconds);
-  proto.set_substeps(static_cast<uint32_t>(s.substeps));
+  proto.set_newton_iterations(static_cast<uint32_t>(s.newton_iterations));
   proto.set_gravity(s.gravity);
   proto.set_areal_density(s.areal_density);
-  proto.set_stretch_compliance(s.stretch_compliance);
-  proto.set_bend_compliance(s.bend_compliance);
-  proto.set_anchor_compliance(s.anchor_compliance);
-  proto.set_damping(s.damping);
+  proto.set_stretch_stiffness(s.stretch_stiffness);
+  proto.set_bend_stiffness(s.bend_stiffness);
+  proto.set_anchor_stiffness(s.anchor_stiffness);
+  proto.set_skin_tie(s.skin_tie);
+  proto.set_contact_stiffness(s.contact_stiffness);
   proto.set_collision_offset(s.collision_offset);
   proto.set_collision_search(s.collision_search);
-  proto.set_friction(s.friction);
   proto.set_homotopy_steps(static_cast<uint32_t>(schedule.homotopy_steps));
   proto.set_relax_steps(static_cast<uint32_t>(schedule.relax_steps));
   return proto;
@@ -61,29 +61,30 @@ v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedu
 absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* settings,
                                     DrapeSchedule* schedule) {
   RETURN_IF_ERROR(CheckPositive("step_seconds", p.step_seconds()));
-  RETURN_IF_ERROR(CheckCount("substeps", p.substeps(), 1, kMaxSubsteps));
+  RETURN_IF_ERROR(
+      CheckCount("newton_iterations", p.newton_iterations(), 1, kMaxNewtonIterations));
   RETURN_IF_ERROR(CheckNonNegative("gravity", p.gravity()));
   RETURN_IF_ERROR(CheckPositive("areal_density", p.areal_density()));
-  RETURN_IF_ERROR(CheckNonNegative("stretch_compliance", p.stretch_compliance()));
-  RETURN_IF_ERROR(CheckNonNegative("bend_compliance", p.bend_compliance()));
-  RETURN_IF_ERROR(CheckNonNegative("anchor_compliance", p.anchor_compliance()));
-  RETURN_IF_ERROR(CheckNonNegative("damping", p.damping()));
+  RETURN_IF_ERROR(CheckPositive("stretch_stiffness", p.stretch_stiffness()));
+  RETURN_IF_ERROR(CheckNonNegative("bend_stiffness", p.bend_stiffness()));
+  RETURN_IF_ERROR(CheckNonNegative("anchor_stiffness", p.anchor_stiffness()));
+  RETURN_IF_ERROR(CheckNonNegative("skin_tie", p.skin_tie()));
+  RETURN_IF_ERROR(CheckPositive("contact_stiffness", p.contact_stiffness()));
   RETURN_IF_ERROR(CheckNonNegative("collision_offset", p.collision_offset()));
   RETURN_IF_ERROR(CheckPositive("collision_search", p.collision_search()));
-  RETURN_IF_ERROR(CheckNonNegative("friction", p.friction()));
   RETURN_IF_ERROR(CheckCount("homotopy_steps", p.homotopy_steps(), 1, kMaxScheduleSteps));
   RETURN_IF_ERROR(CheckCount("relax_steps", p.relax_steps(), 0, kMaxScheduleSteps));
   *settings = ClothSettings{.step_seconds = p.step_seconds(),
-                            .substeps = static_cast<int>(p.substeps()),
+                            .newton_iterations = static_cast<int>(p.newton_iterations()),
                             .gravity = p.gravity(),
                             .areal_density = p.areal_density(),
-                            .stretch_compliance = p.stretch_compliance(),
-                            .bend_compliance = p.bend_compliance(),
-                            .anchor_compliance = p.anchor_compliance(),
-                            .damping = p.damping(),
+                            .stretch_stiffness = p.stretch_stiffness(),
+                            .bend_stiffness = p.bend_stiffness(),
+                            .anchor_stiffness = p.anchor_stiffness(),
+                            .skin_tie = p.skin_tie(),
+                            .contact_stiffness = p.contact_stiffness(),
                             .collision_offset = p.collision_offset(),
-                            .collision_search = p.collision_search(),
-                            .friction = p.friction()};
+                            .collision_search = p.collision_search()};
   *schedule = DrapeSchedule{.homotopy_steps = static_cast<int>(p.homotopy_steps()),
                             .relax_steps = static_cast<int>(p.relax_steps())};
   return absl::OkStatus();

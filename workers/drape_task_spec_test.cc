@@ -24,7 +24,7 @@ class DrapeTaskSpecTest : public ::testing::Test {
 
 TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   ClothSettings settings;
-  settings.friction = 0.3;
+  settings.contact_stiffness = 3e7;
   const DrapeTask task = MakeDrapeTask(garment_, "XL", body_, settings, {7, 9});
   const v1::DrapeTaskSpec spec = DrapeTaskToSpec(task);
   absl::StatusOr<DrapeTask> parsed = DrapeTaskFromSpec(spec);
@@ -34,7 +34,7 @@ TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   EXPECT_EQ(back.size, "XL");
   EXPECT_EQ(back.garment, &spec.garment());
   EXPECT_EQ(back.body, task.body);
-  EXPECT_EQ(back.settings.friction, 0.3);
+  EXPECT_EQ(back.settings.contact_stiffness, 3e7);
   EXPECT_EQ(back.schedule.homotopy_steps, 7);
   EXPECT_EQ(back.schedule.relax_steps, 9);
 }
@@ -61,9 +61,9 @@ TEST_F(DrapeTaskSpecTest, RefusesBadBodiesAndSettingsNamingTheProblem) {
   EXPECT_THAT(DrapeTaskFromSpec(spec),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "step_seconds"));
   spec = good;
-  spec.mutable_settings()->set_substeps(0);
+  spec.mutable_settings()->set_newton_iterations(0);
   EXPECT_THAT(DrapeTaskFromSpec(spec),
-              core::StatusIs(absl::StatusCode::kInvalidArgument, "substeps"));
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "newton_iterations"));
   spec = good;
   spec.mutable_settings()->set_relax_steps(1000000);
   EXPECT_THAT(DrapeTaskFromSpec(spec),

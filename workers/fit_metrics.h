@@ -15,6 +15,8 @@ namespace fitbase::workers {
 // A drape whose p99 edge strain exceeds this is flagged: the size is too small for the body
 // (a single edge over it is a local defect, reported as strain_max, not a verdict on the size).
 inline constexpr double kOverstretchStrain = 0.15;
+// A garment vertex nearer the body than this (m) counts as penetrating in the strict measure.
+inline constexpr double kPenetrationDistance = 0.001;
 
 struct RegionEase {
   core::BodyRegion region;

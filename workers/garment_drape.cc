@@ -61,16 +61,11 @@ absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string
     g.edge_rest = PairLengths(size_mesh.positions, g.model.edges);
     g.bend_rest = PairLengths(size_mesh.positions, g.model.bends);
   } else {
-    ASSIGN_OR_RETURN(core::Mesh rest_mesh, proto::MeshFromProto(garment.rest_mesh()));
-    if (rest_mesh.vertex_count() != rest.rows()) {
-      return absl::InvalidArgumentError(absl::StrCat("garment rest mesh has ",
-                                                     rest_mesh.vertex_count(),
-                                                     " vertices; the template ", rest.rows()));
-    }
+    // Size M is the template as it sits on the mean avatar: the garment fits that body.
     ASSIGN_OR_RETURN(core::Positions axes, proto::LengthAxesFromProto(garment));
     const int step = garment_size->grading_step();
-    g.edge_rest = GradedRestLengths(rest_mesh.positions, axes, g.model.edges, step);
-    g.bend_rest = GradedRestLengths(rest_mesh.positions, axes, g.model.bends, step);
+    g.edge_rest = GradedRestLengths(rest, axes, g.model.edges, step);
+    g.bend_rest = GradedRestLengths(rest, axes, g.model.bends, step);
   }
   return g;
 }

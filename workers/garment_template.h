@@ -22,7 +22,7 @@ absl::StatusOr<core::Positions> FitTemplateToBody(const core::Positions& placed,
                                                   const core::Positions& body,
                                                   const core::Triangles& body_triangles,
                                                   const ClothSettings& settings = {},
-                                                  int relax_steps = 40);
+                                                  int relax_steps = 10);
 
 }  // namespace fitbase::workers
 
