@@ -34,7 +34,7 @@ struct ClothSettings {
   // garment has a continuum of resting places (it may slide around a limb or settle a fold to
   // either side) and the path decides; with it the drape is one smooth function of the body.
   // Weak next to the stretch springs: it does not stop a garment stretching or lifting off.
-  double skin_tie = 1e5;
+  double skin_tie = 1e4;
   // Contact: energy k/2 * depth^2 for a vertex `depth` inside the offset, N/m. Quadratic, so
   // that Newton resolves a contact in one iteration (a smoother cubic converges linearly).
   double contact_stiffness = 1e7;
