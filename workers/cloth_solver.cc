@@ -12,8 +12,8 @@ namespace {
 // How near a body vertex the body under a garment triangle must be for the triangle to be
 // over that vertex: about the body's edge length.
 constexpr double kOwnSurfaceRadius = 0.02;
-// Body vertices this close to a garment triangle at the start of a step are checked against
-// it throughout the step.
+// Body vertices this close to a garment triangle when the body comes to rest are checked
+// against it for the rest of the drape.
 constexpr double kPokeSearch = 0.01;
 // How far a garment triangle must stay above a body vertex under it, m. Less than the
 // collision offset: between its corners (which keep the offset) a flat triangle over a convex
