@@ -20,7 +20,7 @@ namespace fitbase::services {
 namespace {
 
 // Bump when import changes what a given source produces.
-constexpr absl::string_view kImportVersion = "fitbase-garment-import-v1";
+constexpr absl::string_view kImportVersion = "fitbase-garment-import-v2";
 // A garment placed on a body in meters fits in this box.
 constexpr double kMaxGarmentExtent = 3.0;
 
@@ -185,8 +185,6 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
   ASSIGN_OR_RETURN(core::Positions template_positions,
                    workers::FitTemplateToBody(placed, rest, source.mesh.faces, mean_body,
                                               core::Triangulate(model.body_faces())));
-  source.mesh.positions = rest;
-  *garment.mutable_rest_mesh() = proto::MeshToProto(source.mesh);
   source.mesh.positions = template_positions;
   *garment.mutable_template_mesh() = proto::MeshToProto(source.mesh);
   for (Eigen::Index i = 0; i < source.texcoords.size(); ++i) {
