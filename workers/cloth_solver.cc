@@ -35,6 +35,15 @@ Eigen::Matrix3d SpringBlock(const Eigen::Vector3d& d, double length, double rest
 
 }  // namespace
 
+Eigen::Vector3d ClothSolver::OnSkin(const core::TriangleBvh& body, const SkinPoint& skin) {
+  const auto tri = body.triangles().row(skin.triangle);
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    point += skin.barycentric(k) * body.positions().row(tri(k)).transpose();
+  }
+  return point;
+}
+
 // Where the 3 x 3 blocks the solver writes sit in the Hessian's value array: one block per
 // vertex, and one per pair of vertices that share a spring (a contact between a body vertex
 // and a garment triangle couples only the triangle's corners, which share edges). Only the
@@ -94,17 +103,19 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
   for (Eigen::Index v = 0; v < masses_.size(); ++v) {
     if (model.inverse_masses(v) > 0) masses_(v) = 1.0 / model.inverse_masses(v);
   }
-  for (int32_t v : model.anchor_vertices) {
-    const core::SurfacePoint hit = body.Closest(start.row(v).transpose(), 1.0);
-    if (!hit.found) continue;
-    anchors_.push_back({v, hit.triangle, hit.barycentric, start(v, 1) - hit.point.y()});
-  }
+  std::vector<int32_t> tie_of(static_cast<size_t>(start.rows()), -1);
   for (Eigen::Index v = 0; v < start.rows(); ++v) {
     if (masses_(v) == 0) continue;
     const core::SurfacePoint hit = body.Closest(start.row(v).transpose(), 1.0);
     if (!hit.found) continue;
-    ties_.push_back({static_cast<int32_t>(v), hit.triangle, hit.barycentric,
+    tie_of[v] = static_cast<int32_t>(ties_.size());
+    ties_.push_back({static_cast<int32_t>(v), {hit.triangle, hit.barycentric},
                      start.row(v).transpose() - hit.point});
+  }
+  for (int32_t v : model.anchor_vertices) {
+    if (tie_of[v] < 0) continue;
+    const SkinTie& tie = ties_[tie_of[v]];
+    anchors_.push_back({v, tie.skin, tie.offset.y()});
   }
   // The model's triangles and the start positions were validated when the model was built.
   garment_bvh_.emplace(*core::TriangleBvh::Build(positions_, model_.triangles));
@@ -182,14 +193,8 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
   }
   AddSprings(x, model_.edges, edge_rest_, settings_.stretch_stiffness, derivatives, out);
   AddSprings(x, model_.bends, bend_rest_, settings_.bend_stiffness, derivatives, out);
-  const core::Positions& bp = body.positions();
-  const core::Triangles& bt = body.triangles();
   for (const AnchorBinding& a : anchors_) {
-    if (masses_(a.vertex) == 0) continue;
-    const auto tri = bt.row(a.triangle);
-    const double surface_y = a.barycentric(0) * bp(tri(0), 1) +
-                             a.barycentric(1) * bp(tri(1), 1) + a.barycentric(2) * bp(tri(2), 1);
-    const double c = x(a.vertex, 1) - (surface_y + a.height_above);
+    const double c = x(a.vertex, 1) - (OnSkin(body, a.skin).y() + a.height_above);
     out->energy += 0.5 * settings_.anchor_stiffness * c * c;
     if (!derivatives) continue;
     out->gradient(3 * a.vertex + 1) += settings_.anchor_stiffness * c;
@@ -198,15 +203,15 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     pattern_->Add(a.vertex, a.vertex, block, out->hessian);
   }
   for (const SkinTie& tie : ties_) {
-    const auto tri = bt.row(tie.triangle);
-    const Eigen::Vector3d a = bp.row(tri(0)).transpose(), b = bp.row(tri(1)).transpose(),
-                          c = bp.row(tri(2)).transpose();
-    const Eigen::Vector3d normal = (b - a).cross(c - a).normalized();
-    const Eigen::Vector3d target =
-        tie.barycentric(0) * a + tie.barycentric(1) * b + tie.barycentric(2) * c + tie.offset;
+    const auto tri = body.triangles().row(tie.skin.triangle);
+    const Eigen::Vector3d a = body.positions().row(tri(0)).transpose();
+    const Eigen::Vector3d normal = (body.positions().row(tri(1)).transpose() - a)
+                                       .cross(body.positions().row(tri(2)).transpose() - a)
+                                       .normalized();
     const Eigen::Matrix3d tangential =
         Eigen::Matrix3d::Identity() - normal * normal.transpose();
     const double k = settings_.skin_tie * masses_(tie.vertex);
+    const Eigen::Vector3d target = OnSkin(body, tie.skin) + tie.offset;
     const Eigen::Vector3d slip = tangential * (x.row(tie.vertex).transpose() - target);
     out->energy += 0.5 * k * slip.squaredNorm();
     if (!derivatives) continue;

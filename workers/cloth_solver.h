@@ -69,17 +69,20 @@ class ClothSolver {
   ~ClothSolver();
 
  private:
-  struct SkinTie {
-    int32_t vertex;
+  // The body surface point nearest a vertex at the start, which moves with the body.
+  struct SkinPoint {
     int32_t triangle;
     Eigen::Vector3d barycentric;
-    Eigen::Vector3d offset;  // Start position minus the bound surface point, m.
+  };
+  struct SkinTie {
+    int32_t vertex;
+    SkinPoint skin;
+    Eigen::Vector3d offset;  // Start position minus the skin point, m.
   };
   struct AnchorBinding {
     int32_t vertex;
-    int32_t triangle;
-    Eigen::Vector3d barycentric;
-    double height_above;  // Vertex height minus the bound surface point's height, m.
+    SkinPoint skin;
+    double height_above;  // Vertex height minus the skin point's height, m.
   };
   // A body vertex under a garment triangle: vertex-only contact lets a coarse triangle cut
   // through a convex body between its corners, so the triangle's point over the body vertex
@@ -98,6 +101,8 @@ class ClothSolver {
   };
   class HessianPattern;
 
+  // Where `skin` is on the body as it now is, m.
+  static Eigen::Vector3d OnSkin(const core::TriangleBvh& body, const SkinPoint& skin);
   void FindPokes(const core::TriangleBvh& body);
   // With `derivatives` false only the energy is computed (for the line search).
   void Evaluate(const core::Positions& x, const core::TriangleBvh& body, bool derivatives,
