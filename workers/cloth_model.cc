@@ -6,6 +6,7 @@
 
 #include "Eigen/Geometry"
 #include "absl/strings/str_cat.h"
+#include "core/dihedral_angle.h"
 
 namespace fitbase::workers {
 namespace {
@@ -103,7 +104,7 @@ absl::StatusOr<ClothModel> BuildClothModel(const core::Positions& positions,
       return edge[0];
     };
     const int32_t a = opposite(triangles[0]), b = opposite(triangles[1]);
-    if (a != b) model.bends.push_back(Sorted(a, b));
+    if (a != b) model.hinges.push_back({edge[0], edge[1], a, b});
   }
   model.inverse_masses = Eigen::VectorXd::Zero(n);
   for (int64_t v = 0; v < n; ++v) {
@@ -111,6 +112,19 @@ absl::StatusOr<ClothModel> BuildClothModel(const core::Positions& positions,
   }
   model.anchor_vertices = TopBoundaryLoops(positions, edge_faces, model.triangles);
   return model;
+}
+
+Eigen::VectorXd HingeAngles(const core::Positions& positions,
+                            const std::vector<std::array<int32_t, 4>>& hinges) {
+  Eigen::VectorXd angles(static_cast<Eigen::Index>(hinges.size()));
+  for (size_t h = 0; h < hinges.size(); ++h) {
+    const auto& v = hinges[h];
+    angles(static_cast<Eigen::Index>(h)) =
+        core::HingeAngle(positions.row(v[0]), positions.row(v[1]), positions.row(v[2]),
+                         positions.row(v[3]))
+            .angle;
+  }
+  return angles;
 }
 
 Eigen::VectorXd PairLengths(const core::Positions& positions,

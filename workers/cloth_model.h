@@ -11,15 +11,16 @@
 
 namespace fitbase::workers {
 
-// The constraint topology of a garment for XPBD, derived once from its faces. Vertex order is
-// the garment's; constraints are stored in a fixed order so Gauss-Seidel sweeps are
-// deterministic.
+// The constraint topology of a garment for the cloth solver, derived once from its faces. Vertex order is
+// the garment's; constraints are stored in a fixed order so a solve visits them the same way
+// every time.
 struct ClothModel {
   core::Triangles triangles;  // Fan triangulation of the faces.
   // Stretch and shear: every distinct triangle edge (quad diagonals shear), i < j.
   std::vector<std::array<int32_t, 2>> edges;
-  // Bending: for each edge shared by exactly two triangles, their two opposite vertices.
-  std::vector<std::array<int32_t, 2>> bends;
+  // Bending: for each edge shared by exactly two triangles, {edge end, edge end, the first
+  // triangle's third vertex, the second triangle's third vertex} (see core::HingeAngle).
+  std::vector<std::array<int32_t, 4>> hinges;
   // Per vertex: 1 / mass (kg^-1); 0 for vertices no face uses (they never move).
   Eigen::VectorXd inverse_masses;
   // The garment's top openings (waistband, collar, shoe opening): per connected piece, the
@@ -33,6 +34,10 @@ struct ClothModel {
 absl::StatusOr<ClothModel> BuildClothModel(const core::Positions& positions,
                                            const core::PolygonFaces& faces,
                                            double areal_density);
+
+// Current bending angles of `hinges` for `positions` (rad; 0 for a degenerate hinge).
+Eigen::VectorXd HingeAngles(const core::Positions& positions,
+                            const std::vector<std::array<int32_t, 4>>& hinges);
 
 // Current lengths of `pairs` for `positions`.
 Eigen::VectorXd PairLengths(const core::Positions& positions,

@@ -10,7 +10,7 @@ namespace {
 
 TEST(ClothModelTest, QuadGridConstraintsAndMasses) {
   // 3 x 3 vertices, 4 quads of 0.1 m: 12 sides + 4 diagonals; 8 interior triangle edges
-  // each give one bending pair.
+  // each give one hinge, flat here.
   core::Mesh grid;
   grid.positions.resize(9, 3);
   for (int i = 0; i < 9; ++i) grid.positions.row(i) << 0.1 * (i % 3), 1.0 - 0.1 * (i / 3), 0;
@@ -25,7 +25,8 @@ TEST(ClothModelTest, QuadGridConstraintsAndMasses) {
   ASSERT_TRUE(model.ok()) << model.status();
   EXPECT_EQ(model->triangles.rows(), 8);
   EXPECT_EQ(model->edges.size(), 16u);
-  EXPECT_EQ(model->bends.size(), 8u);
+  ASSERT_EQ(model->hinges.size(), 8u);
+  EXPECT_TRUE((HingeAngles(grid.positions, model->hinges).array().abs() < 1e-12).all());
   // Total mass = area x density = 0.04 m^2 x 0.2 kg/m^2.
   EXPECT_NEAR(model->inverse_masses.cwiseInverse().sum(), 0.008, 1e-12);
   // One piece, one boundary loop: every boundary vertex (all but the centre) is an anchor.
@@ -39,6 +40,10 @@ TEST(ClothModelTest, TubeAnchorsItsTopRing) {
   ASSERT_TRUE(model.ok());
   ASSERT_EQ(model->anchor_vertices.size(), 12u);
   for (int32_t v : model->anchor_vertices) EXPECT_DOUBLE_EQ(tube.positions(v, 1), 0.4);
+  // Quads are planar and the tube straight, so only the hinges between neighbouring columns
+  // fold, by the 12-gon's exterior angle.
+  const Eigen::VectorXd angles = HingeAngles(tube.positions, model->hinges);
+  EXPECT_NEAR(angles.cwiseAbs().maxCoeff(), 2 * 3.14159265358979323846 / 12, 1e-9);
 }
 
 TEST(ClothModelTest, RejectsBadFaces) {

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "Eigen/Geometry"
+#include "core/dihedral_angle.h"
 
 namespace fitbase::workers {
 namespace {
@@ -45,13 +46,13 @@ Eigen::Vector3d ClothSolver::OnSkin(const core::TriangleBvh& body, const SkinPoi
 }
 
 // Where the 3 x 3 blocks the solver writes sit in the Hessian's value array: one block per
-// vertex, and one per pair of vertices that share a spring (a contact between a body vertex
-// and a garment triangle couples only the triangle's corners, which share edges). Only the
-// lower triangle is stored, which is what the Cholesky factorisation reads.
+// vertex, and one per pair of vertices that share an edge or a hinge (a contact between a
+// body vertex and a garment triangle couples only the triangle's corners, which share edges).
+// Only the lower triangle is stored, which is what the Cholesky factorisation reads.
 class ClothSolver::HessianPattern {
  public:
   HessianPattern(Eigen::Index vertex_count, const std::vector<std::array<int32_t, 2>>& edges,
-                 const std::vector<std::array<int32_t, 2>>& bends,
+                 const std::vector<std::array<int32_t, 4>>& hinges,
                  Eigen::SparseMatrix<double>* matrix) {
     std::vector<Eigen::Triplet<double>> entries;
     auto add_block = [&](int32_t i, int32_t j) {
@@ -59,9 +60,9 @@ class ClothSolver::HessianPattern {
         for (int b = 0; b < 3; ++b) entries.emplace_back(3 * i + a, 3 * j + b, 0.0);
     };
     for (int32_t v = 0; v < vertex_count; ++v) add_block(v, v);
-    for (const auto* pairs : {&edges, &bends}) {
-      for (const auto& [i, j] : *pairs) add_block(std::max(i, j), std::min(i, j));
-    }
+    for (const auto& [i, j] : edges) add_block(std::max(i, j), std::min(i, j));
+    // A hinge's other pairs are triangle edges already.
+    for (const auto& h : hinges) add_block(std::max(h[2], h[3]), std::min(h[2], h[3]));
     matrix->resize(3 * vertex_count, 3 * vertex_count);
     matrix->setFromTriplets(entries.begin(), entries.end());
     matrix->makeCompressed();
@@ -91,12 +92,12 @@ class ClothSolver::HessianPattern {
 };
 
 ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
-                         Eigen::VectorXd edge_rest, Eigen::VectorXd bend_rest,
+                         Eigen::VectorXd edge_rest, Eigen::VectorXd hinge_rest,
                          const core::TriangleBvh& body, const ClothSettings& settings)
     : model_(model),
       settings_(settings),
       edge_rest_(std::move(edge_rest)),
-      bend_rest_(std::move(bend_rest)),
+      hinge_rest_(std::move(hinge_rest)),
       positions_(start),
       step_start_(start) {
   masses_ = Eigen::VectorXd::Zero(model.inverse_masses.size());
@@ -117,9 +118,21 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
     const SkinTie& tie = ties_[tie_of[v]];
     anchors_.push_back({v, tie.skin, tie.offset.y()});
   }
+  hinge_weights_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.hinges.size()));
+  for (size_t h = 0; h < model.hinges.size(); ++h) {
+    const auto& v = model.hinges[h];
+    const Eigen::Vector3d x0 = start.row(v[0]), x1 = start.row(v[1]);
+    const Eigen::Vector3d e = x1 - x0;
+    const double areas = 0.5 * (e.cross(Eigen::Vector3d(start.row(v[2])) - x0).norm() +
+                                e.cross(Eigen::Vector3d(start.row(v[3])) - x0).norm());
+    if (areas > 0) {
+      hinge_weights_(static_cast<Eigen::Index>(h)) =
+          settings.bending_rigidity * 3 * e.squaredNorm() / areas;
+    }
+  }
   // The model's triangles and the start positions were validated when the model was built.
   garment_bvh_.emplace(*core::TriangleBvh::Build(positions_, model_.triangles));
-  pattern_ = std::make_unique<HessianPattern>(start.rows(), model_.edges, model_.bends,
+  pattern_ = std::make_unique<HessianPattern>(start.rows(), model_.edges, model_.hinges,
                                               &hessian_);
   cholesky_.analyzePattern(hessian_);
 }
@@ -192,7 +205,7 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     pattern_->Add(v, v, m * inertia * Eigen::Matrix3d::Identity(), out->hessian);
   }
   AddSprings(x, model_.edges, edge_rest_, settings_.stretch_stiffness, derivatives, out);
-  AddSprings(x, model_.bends, bend_rest_, settings_.bend_stiffness, derivatives, out);
+  AddBending(x, derivatives, out);
   for (const AnchorBinding& a : anchors_) {
     const double c = x(a.vertex, 1) - (OnSkin(body, a.skin).y() + a.height_above);
     out->energy += 0.5 * settings_.anchor_stiffness * c * c;
@@ -241,6 +254,32 @@ void ClothSolver::AddSprings(const core::Positions& x,
     pattern_->Add(i, i, k, h);
     pattern_->Add(j, j, k, h);
     pattern_->Add(i, j, -k, h);
+  }
+}
+
+void ClothSolver::AddBending(const core::Positions& x, bool derivatives,
+                             Evaluation* out) const {
+  for (size_t h = 0; h < model_.hinges.size(); ++h) {
+    const double weight = hinge_weights_(static_cast<Eigen::Index>(h));
+    if (weight == 0) continue;
+    const auto& v = model_.hinges[h];
+    const core::DihedralAngle hinge =
+        core::HingeAngle(x.row(v[0]), x.row(v[1]), x.row(v[2]), x.row(v[3]));
+    if (hinge.degenerate) continue;
+    const double bend =
+        std::remainder(hinge.angle - hinge_rest_(static_cast<Eigen::Index>(h)), 2 * M_PI);
+    out->energy += 0.5 * weight * bend * bend;
+    if (!derivatives) continue;
+    // Gauss-Newton: the angle's own curvature is left out, which keeps the Hessian
+    // positive semi-definite.
+    for (int a = 0; a < 4; ++a) {
+      out->gradient.segment<3>(3 * v[a]) += weight * bend * hinge.gradient.col(a);
+      for (int b = 0; b <= a; ++b) {
+        pattern_->Add(v[a], v[b],
+                      weight * hinge.gradient.col(a) * hinge.gradient.col(b).transpose(),
+                      out->hessian);
+      }
+    }
   }
 }
 

@@ -20,13 +20,15 @@ absl::Status ValidateInput(const DrapeInput& in) {
         absl::StrCat("garment start has ", in.start.rows(), " vertices, model ", n));
   }
   if (in.edge_rest.size() != static_cast<Eigen::Index>(in.model->edges.size()) ||
-      in.bend_rest.size() != static_cast<Eigen::Index>(in.model->bends.size())) {
-    return absl::InvalidArgumentError("rest lengths do not match the garment's constraints");
+      in.hinge_rest.size() != static_cast<Eigen::Index>(in.model->hinges.size())) {
+    return absl::InvalidArgumentError("rest shape does not match the garment's constraints");
   }
   // Zero is allowed: garments weld coincident seam vertices with zero-length edges.
-  if (!(in.edge_rest.array() >= 0).all() || !(in.bend_rest.array() >= 0).all() ||
-      !in.edge_rest.allFinite() || !in.bend_rest.allFinite()) {
+  if (!(in.edge_rest.array() >= 0).all() || !in.edge_rest.allFinite()) {
     return absl::InvalidArgumentError("rest lengths must be non-negative and finite");
+  }
+  if (!(in.hinge_rest.array().abs() <= M_PI).all()) {
+    return absl::InvalidArgumentError("rest bending angles must be finite, within [-pi, pi]");
   }
   if (in.target_body.rows() != in.mean_body.rows()) {
     return absl::InvalidArgumentError(absl::StrCat("target body has ", in.target_body.rows(),
@@ -49,7 +51,7 @@ absl::StatusOr<DrapeResult> Drape(const DrapeInput& in, const ClothSettings& set
   RETURN_IF_ERROR(ValidateInput(in));
   const auto start_time = std::chrono::steady_clock::now();
   ASSIGN_OR_RETURN(core::TriangleBvh body, core::TriangleBvh::Build(in.mean_body, in.body_triangles));
-  ClothSolver solver(*in.model, in.start, in.edge_rest, in.bend_rest, body, settings);
+  ClothSolver solver(*in.model, in.start, in.edge_rest, in.hinge_rest, body, settings);
   DrapeResult result;
   for (int step = 1; step <= schedule.homotopy_steps; ++step) {
     const double t = static_cast<double>(step) / schedule.homotopy_steps;

@@ -26,7 +26,7 @@ struct DrapeInput {
   const ClothModel* model = nullptr;
   core::Positions start;       // The garment on the mean avatar (the template), V x 3, m.
   Eigen::VectorXd edge_rest;   // Per model->edges: the size's rest lengths, m.
-  Eigen::VectorXd bend_rest;   // Per model->bends, m.
+  Eigen::VectorXd hinge_rest;  // Per model->hinges: the size's rest bending angles, rad.
   std::vector<core::BodyRegion> regions;  // Per garment vertex, for the report (may be empty).
   core::Positions mean_body;   // 13,380 x 3, m: the body the template sits on.
   core::Positions target_body; // Same topology, m.

@@ -10,16 +10,16 @@ namespace fitbase::workers {
 namespace {
 
 // Bumped whenever the solver or the garment pipeline changes results for the same inputs.
-constexpr char kSimulatorVersion[] = "fitbase-newton-1";
+constexpr char kSimulatorVersion[] = "fitbase-newton-2";
 
 }  // namespace
 
 std::string SimulatorDescription(const ClothSettings& s, const DrapeSchedule& schedule) {
   return absl::StrFormat(
-      "%s step=%.17g newton=%d gravity=%.17g density=%.17g stretch=%.17g bend=%.17g "
+      "%s step=%.17g newton=%d gravity=%.17g density=%.17g stretch=%.17g bending=%.17g "
       "anchor=%.17g tie=%.17g contact=%.17g offset=%.17g search=%.17g homotopy=%d relax=%d",
       kSimulatorVersion, s.step_seconds, s.newton_iterations, s.gravity, s.areal_density,
-      s.stretch_stiffness, s.bend_stiffness, s.anchor_stiffness, s.skin_tie, s.contact_stiffness,
+      s.stretch_stiffness, s.bending_rigidity, s.anchor_stiffness, s.skin_tie, s.contact_stiffness,
       s.collision_offset, s.collision_search, schedule.homotopy_steps, schedule.relax_steps);
 }
 

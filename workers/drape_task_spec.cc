@@ -47,7 +47,7 @@ v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedu
   proto.set_gravity(s.gravity);
   proto.set_areal_density(s.areal_density);
   proto.set_stretch_stiffness(s.stretch_stiffness);
-  proto.set_bend_stiffness(s.bend_stiffness);
+  proto.set_bending_rigidity(s.bending_rigidity);
   proto.set_anchor_stiffness(s.anchor_stiffness);
   proto.set_skin_tie(s.skin_tie);
   proto.set_contact_stiffness(s.contact_stiffness);
@@ -66,7 +66,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   RETURN_IF_ERROR(CheckNonNegative("gravity", p.gravity()));
   RETURN_IF_ERROR(CheckPositive("areal_density", p.areal_density()));
   RETURN_IF_ERROR(CheckPositive("stretch_stiffness", p.stretch_stiffness()));
-  RETURN_IF_ERROR(CheckNonNegative("bend_stiffness", p.bend_stiffness()));
+  RETURN_IF_ERROR(CheckNonNegative("bending_rigidity", p.bending_rigidity()));
   RETURN_IF_ERROR(CheckNonNegative("anchor_stiffness", p.anchor_stiffness()));
   RETURN_IF_ERROR(CheckNonNegative("skin_tie", p.skin_tie()));
   RETURN_IF_ERROR(CheckPositive("contact_stiffness", p.contact_stiffness()));
@@ -79,7 +79,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
                             .gravity = p.gravity(),
                             .areal_density = p.areal_density(),
                             .stretch_stiffness = p.stretch_stiffness(),
-                            .bend_stiffness = p.bend_stiffness(),
+                            .bending_rigidity = p.bending_rigidity(),
                             .anchor_stiffness = p.anchor_stiffness(),
                             .skin_tie = p.skin_tie(),
                             .contact_stiffness = p.contact_stiffness(),

@@ -24,7 +24,7 @@ class DrapeTest : public ::testing::Test {
     return DrapeInput{.model = &model_,
                       .start = tube_.positions,
                       .edge_rest = rest_scale * PairLengths(tube_.positions, model_.edges),
-                      .bend_rest = rest_scale * PairLengths(tube_.positions, model_.bends),
+                      .hinge_rest = HingeAngles(tube_.positions, model_.hinges),
                       .regions = {},
                       .mean_body = mean_.positions,
                       .target_body = target_scale * mean_.positions,
@@ -80,7 +80,7 @@ TEST_F(DrapeTest, ConvergesUnderTheFixedBudget) {
   input.model = &*model;
   input.start = band.positions;
   input.edge_rest = 0.9 * PairLengths(band.positions, model->edges);
-  input.bend_rest = 0.9 * PairLengths(band.positions, model->bends);
+  input.hinge_rest = HingeAngles(band.positions, model->hinges);
   auto snug = Drape(input);
   ASSERT_TRUE(snug.ok());
   EXPECT_LT(snug->converged_max_move_mm, 1e-3);
@@ -121,6 +121,11 @@ TEST_F(DrapeTest, RejectsBadInput) {
   DrapeInput bad_rest = Input(1.0, 1.0);
   bad_rest.edge_rest(0) = -0.01;
   EXPECT_EQ(Drape(bad_rest).status().code(), absl::StatusCode::kInvalidArgument);
+  DrapeInput bad_angle = Input(1.0, 1.0);
+  bad_angle.hinge_rest(0) = std::nan("");
+  EXPECT_EQ(Drape(bad_angle).status().code(), absl::StatusCode::kInvalidArgument);
+  bad_angle.hinge_rest(0) = 4.0;
+  EXPECT_EQ(Drape(bad_angle).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 TEST(GarmentTemplateTest, PushesAPlacementOutOfTheBody) {

@@ -24,7 +24,7 @@ struct PreparedGarment {
   core::Positions mean_body;  // 13,380 x 3.
   core::Triangles body_triangles;
   Eigen::VectorXd edge_rest;
-  Eigen::VectorXd bend_rest;
+  Eigen::VectorXd hinge_rest;
 };
 
 absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string_view size,
@@ -59,13 +59,14 @@ absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string
                                                      rest.rows()));
     }
     g.edge_rest = PairLengths(size_mesh.positions, g.model.edges);
-    g.bend_rest = PairLengths(size_mesh.positions, g.model.bends);
+    g.hinge_rest = HingeAngles(size_mesh.positions, g.model.hinges);
   } else {
     // Size M is the template as it sits on the mean avatar: the garment fits that body.
     ASSIGN_OR_RETURN(core::Positions axes, proto::LengthAxesFromProto(garment));
     const int step = garment_size->grading_step();
     g.edge_rest = GradedRestLengths(rest, axes, g.model.edges, step);
-    g.bend_rest = GradedRestLengths(rest, axes, g.model.bends, step);
+    // Grading scales the garment nearly uniformly, which keeps its angles.
+    g.hinge_rest = HingeAngles(rest, g.model.hinges);
   }
   return g;
 }
@@ -118,7 +119,7 @@ absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string
   DrapeInput input{.model = &g.model,
                    .start = g.template_mesh.mesh.positions,
                    .edge_rest = g.edge_rest,
-                   .bend_rest = g.bend_rest,
+                   .hinge_rest = g.hinge_rest,
                    .regions = g.regions,
                    .mean_body = g.mean_body,
                    .target_body = target_body,

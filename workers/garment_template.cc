@@ -22,10 +22,10 @@ absl::StatusOr<core::Positions> FitTemplateToBody(const core::Positions& placed,
   ASSIGN_OR_RETURN(ClothModel model, BuildClothModel(placed, faces, settings.areal_density));
   ASSIGN_OR_RETURN(core::TriangleBvh bvh, core::TriangleBvh::Build(body, body_triangles));
   ClothSolver pusher(model, placed, PairLengths(placed, model.edges),
-                     PairLengths(placed, model.bends), bvh, settings);
+                     HingeAngles(placed, model.hinges), bvh, settings);
   pusher.ResolveCollisions(bvh, kTemplatePushSearch, settings.collision_offset);
   ClothSolver solver(model, pusher.positions(), PairLengths(rest, model.edges),
-                     PairLengths(rest, model.bends), bvh, settings);
+                     HingeAngles(rest, model.hinges), bvh, settings);
   for (int step = 0; step < relax_steps; ++step) solver.Step(bvh);
   solver.ResolveCollisions(bvh, kTemplatePushSearch, settings.collision_offset);
   return solver.positions();
