@@ -194,7 +194,13 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
     });
     const auto &mid = runs[0].fit, &plus = runs[1].fit, &minus = runs[2].fit,
                &doubled = runs[3].fit;
-    if (!mid.ok() || !plus.ok() || !minus.ok() || !doubled.ok()) continue;
+    if (const auto failed = std::find_if(runs.begin(), runs.end(),
+                                         [](const Run& r) { return !r.fit.ok(); });
+        failed != runs.end()) {
+      std::printf("%-22s %-6s %s\n", g.name().c_str(), body.name.c_str(),
+                  std::string(failed->fit.status().message()).c_str());
+      continue;
+    }
     // Per vertex, the largest coordinate of the second difference, mm.
     std::vector<double> second(static_cast<size_t>(mid->positions.rows()));
     const core::Positions diff = plus->positions + minus->positions - 2 * mid->positions;
