@@ -43,7 +43,8 @@ TEST(HingeAngle, GradientMatchesFiniteDifferences) {
         const double numeric = (HingeAngle(plus[0], plus[1], plus[2], plus[3]).angle -
                                 HingeAngle(minus[0], minus[1], minus[2], minus[3]).angle) /
                                (2 * step);
-        EXPECT_NEAR(h.gradient(d, k), numeric, 1e-6) << "fold " << fold << " x" << k << "[" << d << "]";
+        EXPECT_NEAR(h.gradient(d, k), numeric, 1e-6)
+            << "fold " << fold << " x" << k << "[" << d << "]";
       }
     }
   }

@@ -11,9 +11,9 @@
 
 namespace fitbase::workers {
 
-// The constraint topology of a garment for the cloth solver, derived once from its faces. Vertex order is
-// the garment's; constraints are stored in a fixed order so a solve visits them the same way
-// every time.
+// The constraint topology of a garment for the cloth solver, derived once from its faces.
+// Vertex order is the garment's; constraints are stored in a fixed order so a solve visits
+// them the same way every time.
 struct ClothModel {
   core::Triangles triangles;  // Fan triangulation of the faces.
   // Stretch and shear: every distinct triangle edge (quad diagonals shear), i < j.
