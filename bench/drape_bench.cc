@@ -1,6 +1,6 @@
 // The offline fitter's figures over the shared garments:
 //   fitbase_drape_bench --basis B.fbb [--garments a,b|all] [--sizes S,M,XL] [--jobs 2]
-//                       [--smoothness | --smoothness-only] [--out DIR]
+//                       [--smoothness | --smoothness-only] [--out DIR] [--rows R.csv]
 // Drapes every garment in every size onto ten bodies (women and men: average, heavy, thin,
 // tall, short) and prints, per garment, seconds per drape (each drape single-threaded; --jobs
 // runs drapes side by side), penetration, strain (flagged drapes counted apart) and ease.
@@ -10,10 +10,12 @@
 // largest coordinate: the worst vertex, the 99th percentile and the share over 1 mm), and how
 // far doubling the iteration budget moves the result.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <mutex>
@@ -76,9 +78,31 @@ void ForEachSideBySide(size_t count, int jobs, const std::function<void(size_t)>
 }
 
 // Every garment in every size on every body, `jobs` drapes side by side.
+// One CSV row per drape, for a look at the drapes behind a garment's worst figures.
+void WriteRows(const std::string& path, const std::vector<v1::Garment>& imported,
+               const std::vector<Body>& bodies, const std::vector<std::string>& size_list,
+               const std::vector<std::array<size_t, 3>>& tasks,
+               const std::vector<v1::DrapeReport>& reports) {
+  std::ofstream rows(path);
+  rows << "garment,body,size,seconds,penetration_below_0mm,penetration_below_1mm,strain_mean,"
+          "strain_p99,strain_max,overstretched,ease_mean_mm,converged_max_move_mm,error\n";
+  for (size_t i = 0; i < tasks.size(); ++i) {
+    const auto [g, b, s] = tasks[i];
+    const v1::DrapeReport& r = reports[i];
+    rows << absl::StrFormat("%s,%s,%s,%.3f,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%.2f,%.4f,\"%s\"\n",
+                            imported[g].name(), bodies[b].name, size_list[s], r.seconds(),
+                            r.penetration_below_0mm(), r.penetration_below_1mm(),
+                            r.strain_mean(), r.strain_p99(), r.strain_max(), r.overstretched(),
+                            r.ease_mean_mm(), r.converged_max_move_mm(),
+                            r.vertex_count() == 0 ? r.method() : "");
+  }
+  if (!rows) std::cerr << "could not write " << path << "\n";
+}
+
 void PrintPopulationTable(const std::vector<v1::Garment>& imported,
                           const std::vector<Body>& bodies,
-                          const std::vector<std::string>& size_list, int jobs) {
+                          const std::vector<std::string>& size_list, int jobs,
+                          const std::string& rows_path) {
   struct Task {
     size_t garment, body, size;
   };
@@ -101,6 +125,11 @@ void PrintPopulationTable(const std::vector<v1::Garment>& imported,
     progress.Update(static_cast<int64_t>(++done));
   });
   progress.Finish();
+  if (!rows_path.empty()) {
+    std::vector<std::array<size_t, 3>> ids;
+    for (const Task& t : tasks) ids.push_back({t.garment, t.body, t.size});
+    WriteRows(rows_path, imported, bodies, size_list, ids, reports);
+  }
 
   std::printf("\n%-22s %6s %9s %9s %9s %9s %9s %8s %8s\n", "garment", "verts", "s/drape",
               "pen<0mm", "pen<1mm", "strain_m", "strain99", "flagged", "ease_mm");
@@ -216,7 +245,7 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
 
 int Main(int argc, char** argv) {
   CLI::App app{"Offline fitter figures over the shared garments"};
-  std::string basis_path, data = "data/makehuman", garments = "all", sizes = "S,M,XL", out;
+  std::string basis_path, data = "data/makehuman", garments = "all", sizes = "S,M,XL", out, rows;
   int jobs = 2;
   bool smoothness = false, smoothness_only = false;
   app.add_option("--basis", basis_path, "Avatar basis (.fbb) with avatar parameters")->required();
@@ -228,6 +257,7 @@ int Main(int argc, char** argv) {
   app.add_flag("--smoothness", smoothness, "Also measure smoothness and budget doubling");
   app.add_flag("--smoothness-only", smoothness_only, "Only measure smoothness and budget doubling");
   app.add_option("--out", out, "Folder for the imported garments (reused when present)");
+  app.add_option("--rows", rows, "CSV file for one row per drape of the population table");
   CLI11_PARSE(app, argc, argv);
 
   v1::AvatarBasis basis;
@@ -256,19 +286,23 @@ int Main(int argc, char** argv) {
   std::vector<v1::Garment> imported;
   for (const std::string& name : names) {
     const std::filesystem::path cache = out.empty() ? "" : std::filesystem::path(out) / (name + ".fbg");
-    v1::Garment garment;
-    if (!cache.empty() && proto::ReadMessageFile(cache, &garment).ok() &&
-        garment.avatar_basis_id() == basis.id()) {
-      imported.push_back(garment);
-      continue;
-    }
     services::GarmentImportPaths paths;
     paths.mhclo = std::filesystem::path(data) / "clothes" / name / (name + ".mhclo");
     absl::StatusOr<services::GarmentImportRequest> request =
         services::ReadGarmentImportFiles(paths);
     if (request.ok()) request->sizes = size_list;
+    // A cached import is reused only if importing anew would give it the same id (same
+    // basis, files, sizes and importer version).
+    const absl::StatusOr<std::string> id =
+        request.ok() ? services::GarmentImportId(basis.id(), *request) : request.status();
+    v1::Garment garment;
+    if (id.ok() && !cache.empty() && proto::ReadMessageFile(cache, &garment).ok() &&
+        garment.id() == *id) {
+      imported.push_back(garment);
+      continue;
+    }
     absl::StatusOr<v1::Garment> result =
-        request.ok() ? services::ImportGarment(*model, basis, *request) : request.status();
+        id.ok() ? services::ImportGarment(*model, basis, *request) : id.status();
     if (!result.ok()) {
       std::cerr << name << ": " << result.status().message() << "\n";
       return 1;
@@ -277,7 +311,7 @@ int Main(int argc, char** argv) {
     imported.push_back(*std::move(result));
   }
 
-  if (!smoothness_only) PrintPopulationTable(imported, bodies, size_list, jobs);
+  if (!smoothness_only) PrintPopulationTable(imported, bodies, size_list, jobs, rows);
   if (smoothness || smoothness_only) PrintSmoothness(imported, bodies, basis, jobs);
   return 0;
 }

@@ -20,7 +20,7 @@ namespace fitbase::services {
 namespace {
 
 // Bump when import changes what a given source produces.
-constexpr absl::string_view kImportVersion = "fitbase-garment-import-v3";
+constexpr absl::string_view kImportVersion = "fitbase-garment-import-v4";
 // A garment placed on a body in meters fits in this box.
 constexpr double kMaxGarmentExtent = 3.0;
 
@@ -98,6 +98,29 @@ absl::StatusOr<GarmentImportRequest> ReadGarmentImportFiles(const GarmentImportP
   return request;
 }
 
+std::string SourceSha256(const GarmentImportRequest& request) {
+  core::ContentHash hash;
+  hash.Add(request.obj.bytes);
+  if (request.mhclo.has_value()) hash.Add(request.mhclo->bytes);
+  return hash.HexDigest();
+}
+
+absl::StatusOr<std::string> GarmentImportId(absl::string_view basis_id,
+                                            const GarmentImportRequest& request) {
+  core::ContentHash id;
+  id.Add(kImportVersion).Add(basis_id).Add(SourceSha256(request));
+  for (const std::string& size : request.sizes) {
+    const auto mesh_file = request.size_meshes.find(size);
+    if (mesh_file != request.size_meshes.end()) {
+      id.Add(size).Add(mesh_file->second.bytes);
+    } else {
+      ASSIGN_OR_RETURN(int step, GradingStep(size));
+      id.Add(size).Add(int64_t{step});
+    }
+  }
+  return id.HexDigest();
+}
+
 absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
                                           const v1::AvatarBasis& basis,
                                           const GarmentImportRequest& request) {
@@ -129,8 +152,6 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
     rest = core::kMetersPerDataUnit * source.mesh.positions;
     *garment.mutable_binding() = proto::MhcloBindingToProto(binding);
     garment.mutable_source()->set_kind("mhclo");
-    garment.mutable_source()->set_sha256(
-        core::ContentHash().Add(request.obj.bytes).Add(request.mhclo->bytes).HexDigest());
   } else {
     rest = source.mesh.positions;
     const Eigen::RowVector3d extent = rest.colwise().maxCoeff() - rest.colwise().minCoeff();
@@ -140,7 +161,6 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
           " units; a garment placed on the mean avatar is given in meters"));
     }
     garment.mutable_source()->set_kind("obj");
-    garment.mutable_source()->set_sha256(core::ContentHash().Add(request.obj.bytes).HexDigest());
   }
   const std::string& source_name = request.mhclo.has_value() ? request.mhclo->name
                                                              : request.obj.name;
@@ -152,8 +172,9 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
   }
   source.mesh.topology_id = absl::StrCat("garment-", garment.name());
 
-  core::ContentHash id;
-  id.Add(kImportVersion).Add(basis.id()).Add(garment.source().sha256());
+  garment.mutable_source()->set_sha256(SourceSha256(request));
+  ASSIGN_OR_RETURN(std::string id, GarmentImportId(basis.id(), request));
+  garment.set_id(std::move(id));
   for (const std::string& size : request.sizes) {
     v1::GarmentSize* s = garment.add_sizes();
     s->set_name(size);
@@ -169,14 +190,11 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
       }
       size_mesh.mesh.topology_id = source.mesh.topology_id;
       *s->mutable_rest() = proto::MeshToProto(size_mesh.mesh);
-      id.Add(size).Add(file.bytes);
     } else {
       ASSIGN_OR_RETURN(int step, GradingStep(size));
       s->set_grading_step(step);
-      id.Add(size).Add(int64_t{step});
     }
   }
-  garment.set_id(id.HexDigest());
 
   ASSIGN_OR_RETURN(core::Mesh mean_full, MeanFullAvatar(model, basis));
   const core::Positions mean_body = mean_full.positions.topRows(core::kBodyVertexCount);

@@ -55,6 +55,15 @@ absl::StatusOr<GarmentImportRequest> ReadGarmentImportFiles(const GarmentImportP
 absl::StatusOr<core::Mesh> MeanFullAvatar(const core::BodyModel& model,
                                           const v1::AvatarBasis& basis);
 
+// The content hash of a request's garment files: its OBJ, then its binding if it has one.
+std::string SourceSha256(const GarmentImportRequest& request);
+
+// The id ImportGarment gives the garment of `request` on the basis `basis_id`, without
+// importing it: the importer's version, the basis, the files' bytes and the sizes. NOT_FOUND
+// for an unknown size name without a mesh.
+absl::StatusOr<std::string> GarmentImportId(absl::string_view basis_id,
+                                            const GarmentImportRequest& request);
+
 // Imports a garment: places it on the basis's mean avatar (by its binding, or as given),
 // pushes it out of the body and relaxes it into the template, and records its sizes, the
 // body axes and regions it covers, and its binding. The id hashes the basis, the files'

@@ -109,7 +109,7 @@ TEST_F(GarmentImporterTest, ContentsImportAsTheFilesTheyCameFrom) {
       core::ContentHash().Add(uploaded.obj.bytes).Add(uploaded.mhclo->bytes).HexDigest();
   EXPECT_EQ(from_contents->source().sha256(), sha256);
   EXPECT_EQ(from_contents->id(), core::ContentHash()
-                                     .Add("fitbase-garment-import-v3")
+                                     .Add("fitbase-garment-import-v4")
                                      .Add(basis_->id())
                                      .Add(sha256)
                                      .Add("M")
@@ -119,6 +119,9 @@ TEST_F(GarmentImporterTest, ContentsImportAsTheFilesTheyCameFrom) {
                                      .Add("XL")
                                      .Add(int64_t{2})
                                      .HexDigest());
+  // A cache can tell an import is current without redoing it.
+  EXPECT_EQ(GarmentImportId(basis_->id(), uploaded).value_or(""), from_contents->id());
+  EXPECT_NE(GarmentImportId("another basis", uploaded).value_or(""), from_contents->id());
   EXPECT_EQ(from_contents->template_mesh().vertex_count(), kGarmentVertexCount);
   ASSERT_EQ(from_contents->sizes_size(), 3);
   EXPECT_TRUE(from_contents->sizes(1).has_rest());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "Eigen/Geometry"
@@ -23,6 +24,13 @@ constexpr double kPokeClearance = 0.0005;
 // Armijo line search: sufficient decrease, and how often the step may be halved.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 12;
+// A push out of the body may halve its lift this often to fit between the sides of a crease,
+// or double it this often to leave a crease whose sides touch, along it.
+constexpr int kMaxPushHalvings = 5;
+constexpr int kMaxPushDoublings = 3;
+// |n1 + n2| of a crease's two side normals below which the sides face each other squarely and
+// no direction leads out of it.
+constexpr double kMinCreaseOpening = 0.05;
 
 // Gauss-Newton Hessian block of a spring: exact along the spring, and across it only while
 // stretched (a compressed spring's negative transverse stiffness is the buckling it should
@@ -367,6 +375,39 @@ void ClothSolver::FindPokes(const core::TriangleBvh& body) {
   }
 }
 
+Eigen::Vector3d ClothSolver::PushOut(const core::TriangleBvh& body, const core::SurfacePoint& hit,
+                                     double search) const {
+  Eigen::Vector3d best = hit.point + settings_.collision_offset * hit.normal;
+  double best_distance = -std::numeric_limits<double>::infinity();
+  // Tries `point`; true once it is outside the body.
+  auto outside = [&](const Eigen::Vector3d& point, Eigen::Vector3d* normal) {
+    const core::SurfacePoint there = body.Closest(point, search);
+    const double distance = there.found ? there.signed_distance : search;
+    if (normal != nullptr) *normal = there.normal;
+    if (distance > best_distance) {
+      best = point;
+      best_distance = distance;
+    }
+    return distance > 0;
+  };
+  // In a crease narrower than twice the offset (an armpit) the point at the offset over one
+  // side is inside the other; a point nearer this side is between them.
+  Eigen::Vector3d facing = hit.normal;
+  double lift = settings_.collision_offset;
+  for (int halving = 0; halving < kMaxPushHalvings; ++halving, lift *= 0.5) {
+    if (outside(hit.point + lift * hit.normal, halving == 0 ? &facing : nullptr)) return best;
+  }
+  // Where the two sides touch (thighs at a short body's crotch) there is no room between
+  // them: the way out is along the crease, between the two sides' normals.
+  const Eigen::Vector3d along = hit.normal + facing;
+  if (along.norm() < kMinCreaseOpening) return best;
+  lift = settings_.collision_offset;
+  for (int doubling = 0; doubling < kMaxPushDoublings; ++doubling, lift *= 2) {
+    if (outside(hit.point + lift * along.normalized(), nullptr)) break;
+  }
+  return best;
+}
+
 int ClothSolver::ResolveCollisions(const core::TriangleBvh& body, double search,
                                    double below) {
   const core::Positions before = positions_;
@@ -377,7 +418,7 @@ int ClothSolver::ResolveCollisions(const core::TriangleBvh& body, double search,
     if (positions_(v, 1) < floor_ + below) positions_(v, 1) = floor_ + offset;
     const core::SurfacePoint hit = body.Closest(positions_.row(v).transpose(), search);
     if (!hit.found || hit.signed_distance >= below) continue;
-    positions_.row(v) = (hit.point + offset * hit.normal).transpose();
+    positions_.row(v) = PushOut(body, hit, search).transpose();
   }
   return static_cast<int>(((positions_ - before).rowwise().squaredNorm().array() > 0).count());
 }

@@ -71,7 +71,8 @@ class ClothSolver {
   double Step(const core::TriangleBvh& body);
 
   // Pushes every vertex closer to the body than `below` (or inside, up to `search` deep) out
-  // to the collision offset along the body's pseudo-normal; returns how many moved.
+  // to the collision offset along the body's pseudo-normal (less in a narrow crease);
+  // returns how many moved.
   int ResolveCollisions(const core::TriangleBvh& body, double search, double below);
 
   const core::Positions& positions() const { return positions_; }
@@ -114,6 +115,11 @@ class ClothSolver {
   // Where `skin` is on the body as it now is, m.
   static Eigen::Vector3d OnSkin(const core::TriangleBvh& body, const SkinPoint& skin);
   void FindPokes(const core::TriangleBvh& body);
+  // Where a vertex inside the body, nearest `hit` on its surface, is put: at the collision
+  // offset along the surface normal, or nearer where that point is inside another part of
+  // the body. m.
+  Eigen::Vector3d PushOut(const core::TriangleBvh& body, const core::SurfacePoint& hit,
+                          double search) const;
   // With `derivatives` false only the energy is computed (for the line search).
   void Evaluate(const core::Positions& x, const core::TriangleBvh& body, bool derivatives,
                 Evaluation* out) const;

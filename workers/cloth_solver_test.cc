@@ -1,0 +1,65 @@
+#include "workers/cloth_solver.h"
+
+#include "gtest/gtest.h"
+#include "workers/test_shapes.h"
+
+namespace fitbase::workers {
+namespace {
+
+constexpr double kRadius = 0.1;
+
+// Two spheres side by side along x, `gap` apart (negative: overlapping), as one triangle soup:
+// the two sides of a crease, like thighs.
+core::TriangleBvh TwoSpheres(double gap) {
+  const core::Mesh a = UvSphere(kRadius, 64, 96, Eigen::RowVector3d(-kRadius - gap / 2, 0, 0));
+  const core::Mesh b = UvSphere(kRadius, 64, 96, Eigen::RowVector3d(kRadius + gap / 2, 0, 0));
+  core::Positions positions(a.positions.rows() + b.positions.rows(), 3);
+  positions << a.positions, b.positions;
+  const core::Triangles ta = core::Triangulate(a.faces);
+  core::Triangles triangles(2 * ta.rows(), 3);
+  triangles << ta, (ta.array() + static_cast<int32_t>(a.positions.rows())).matrix();
+  return *core::TriangleBvh::Build(positions, triangles);
+}
+
+// Pushes a small triangle's first corner, at `inside`, out of `body`; returns its signed
+// distance afterwards, m.
+double PushedDistance(const core::TriangleBvh& body, const Eigen::RowVector3d& inside) {
+  core::Positions garment(3, 3);
+  garment << inside, inside + Eigen::RowVector3d(0, 0.01, 0.05),
+      inside + Eigen::RowVector3d(0, -0.01, 0.05);
+  core::Mesh mesh;
+  mesh.positions = garment;
+  mesh.faces.sizes = {3};
+  mesh.faces.indices = {0, 1, 2};
+  const ClothModel model = *BuildClothModel(garment, mesh.faces, 0.15);
+  ClothSolver solver(model, garment, PairLengths(garment, model.edges),
+                     HingeAngles(garment, model.hinges), body, ClothSettings{});
+  solver.ResolveCollisions(body, 0.05, 0.001);
+  return body.Closest(solver.positions().row(0).transpose(), 0.05).signed_distance;
+}
+
+TEST(ClothSolverTest, PushOutFitsBetweenTheSidesOfANarrowCrease) {
+  const core::TriangleBvh body = TwoSpheres(0.001);
+  const Eigen::RowVector3d inside(-0.0012, 0, 0.01);
+  const core::SurfacePoint hit = body.Closest(inside.transpose(), 0.05);
+  ASSERT_LT(hit.signed_distance, 0);
+  // The point at the full offset over the near side is inside the far one.
+  ASSERT_LT(body.Closest(hit.point + ClothSettings{}.collision_offset * hit.normal, 0.05)
+                .signed_distance,
+            0);
+  EXPECT_GT(PushedDistance(body, inside), 0);
+}
+
+TEST(ClothSolverTest, PushOutLeavesACreaseWhoseSidesTouchAlongIt) {
+  const core::TriangleBvh body = TwoSpheres(-0.0005);
+  const Eigen::RowVector3d inside(-0.0014, 0, 0.007);
+  const core::SurfacePoint hit = body.Closest(inside.transpose(), 0.05);
+  ASSERT_LT(hit.signed_distance, 0);
+  for (double lift = ClothSettings{}.collision_offset; lift > 1e-4; lift /= 2) {
+    ASSERT_LT(body.Closest(hit.point + lift * hit.normal, 0.05).signed_distance, 0) << lift;
+  }
+  EXPECT_GT(PushedDistance(body, inside), 0);
+}
+
+}  // namespace
+}  // namespace fitbase::workers
