@@ -115,9 +115,10 @@ class ClothSolver {
   // Where `skin` is on the body as it now is, m.
   static Eigen::Vector3d OnSkin(const core::TriangleBvh& body, const SkinPoint& skin);
   void FindPokes(const core::TriangleBvh& body);
-  // Where a vertex inside the body, nearest `hit` on its surface, is put: at the collision
-  // offset along the surface normal, or nearer where that point is inside another part of
-  // the body. m.
+  // Where a vertex inside the body, nearest `hit` on its surface, is put (m): at the collision
+  // offset along the surface normal; nearer the surface where that point is inside another
+  // part of the body; out along the crease where the two parts touch. The point tried that is
+  // farthest outside when none is.
   Eigen::Vector3d PushOut(const core::TriangleBvh& body, const core::SurfacePoint& hit,
                           double search) const;
   // With `derivatives` false only the energy is computed (for the line search).
