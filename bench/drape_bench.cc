@@ -10,7 +10,6 @@
 // largest coordinate: the worst vertex, the 99th percentile and the share over 1 mm), and how
 // far doubling the iteration budget moves the result, and the second difference at d / 2.
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -24,6 +23,7 @@
 #include "CLI/CLI.hpp"
 #include "absl/strings/str_format.h"
 #include "absl/strings/match.h"
+#include "absl/strings/str_replace.h"
 #include "absl/strings/str_split.h"
 #include "core/body_model.h"
 #include "proto/avatar_basis_codec.h"
@@ -77,36 +77,39 @@ void ForEachSideBySide(size_t count, int jobs, const std::function<void(size_t)>
   for (auto& t : threads) t.join();
 }
 
-// Every garment in every size on every body, `jobs` drapes side by side.
+// One drape of the population table, by index into the garments, bodies and sizes.
+struct DrapeTask {
+  size_t garment, body, size;
+};
+
 // One CSV row per drape, for a look at the drapes behind a garment's worst figures.
 void WriteRows(const std::string& path, const std::vector<v1::Garment>& imported,
                const std::vector<Body>& bodies, const std::vector<std::string>& size_list,
-               const std::vector<std::array<size_t, 3>>& tasks,
-               const std::vector<v1::DrapeReport>& reports) {
+               const std::vector<DrapeTask>& tasks, const std::vector<v1::DrapeReport>& reports) {
   std::ofstream rows(path);
   rows << "garment,body,size,seconds,penetration_below_0mm,penetration_below_1mm,strain_mean,"
           "strain_p99,strain_max,overstretched,ease_mean_mm,converged_max_move_mm,error\n";
   for (size_t i = 0; i < tasks.size(); ++i) {
     const auto [g, b, s] = tasks[i];
     const v1::DrapeReport& r = reports[i];
+    // A failed drape's report carries its error as the method.
+    const std::string error =
+        r.vertex_count() == 0 ? absl::StrReplaceAll(r.method(), {{"\"", "\"\""}}) : "";
     rows << absl::StrFormat("%s,%s,%s,%.3f,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%.2f,%.4f,\"%s\"\n",
                             imported[g].name(), bodies[b].name, size_list[s], r.seconds(),
                             r.penetration_below_0mm(), r.penetration_below_1mm(),
                             r.strain_mean(), r.strain_p99(), r.strain_max(), r.overstretched(),
-                            r.ease_mean_mm(), r.converged_max_move_mm(),
-                            r.vertex_count() == 0 ? r.method() : "");
+                            r.ease_mean_mm(), r.converged_max_move_mm(), error);
   }
   if (!rows) std::cerr << "could not write " << path << "\n";
 }
 
+// Every garment in every size on every body, `jobs` drapes side by side.
 void PrintPopulationTable(const std::vector<v1::Garment>& imported,
                           const std::vector<Body>& bodies,
                           const std::vector<std::string>& size_list, int jobs,
                           const std::string& rows_path) {
-  struct Task {
-    size_t garment, body, size;
-  };
-  std::vector<Task> tasks;
+  std::vector<DrapeTask> tasks;
   for (size_t g = 0; g < imported.size(); ++g)
     for (size_t b = 0; b < bodies.size(); ++b)
       for (size_t s = 0; s < size_list.size(); ++s) tasks.push_back({g, b, s});
@@ -116,7 +119,7 @@ void PrintPopulationTable(const std::vector<v1::Garment>& imported,
   services::ProgressReporter progress("drapes", static_cast<int64_t>(tasks.size()), std::cerr,
                                       services::StderrIsTerminal());
   ForEachSideBySide(tasks.size(), jobs, [&](size_t i) {
-    const Task& t = tasks[i];
+    const DrapeTask& t = tasks[i];
     auto fit = workers::DrapeGarment(imported[t.garment], size_list[t.size],
                                      bodies[t.body].positions);
     if (fit.ok()) reports[i] = fit->report;
@@ -125,11 +128,7 @@ void PrintPopulationTable(const std::vector<v1::Garment>& imported,
     progress.Update(static_cast<int64_t>(++done));
   });
   progress.Finish();
-  if (!rows_path.empty()) {
-    std::vector<std::array<size_t, 3>> ids;
-    for (const Task& t : tasks) ids.push_back({t.garment, t.body, t.size});
-    WriteRows(rows_path, imported, bodies, size_list, ids, reports);
-  }
+  if (!rows_path.empty()) WriteRows(rows_path, imported, bodies, size_list, tasks, reports);
 
   std::printf("\n%-22s %6s %9s %9s %9s %9s %9s %8s %8s\n", "garment", "verts", "s/drape",
               "pen<0mm", "pen<1mm", "strain_m", "strain99", "flagged", "ease_mm");
