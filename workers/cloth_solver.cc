@@ -161,20 +161,20 @@ double ClothSolver::Step(const core::TriangleBvh& body) {
   }
   floor_ = body.positions().col(1).minCoeff();
   for (int i = 0; i < settings_.newton_iterations; ++i) {
-    if (!NewtonIteration(body)) break;
+    if (!(NewtonIteration(body) > settings_.newton_tolerance)) break;
   }
   return (positions_ - step_start_).rowwise().norm().maxCoeff();
 }
 
-bool ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
+double ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
   Evaluation here;
   Evaluate(positions_, body, /*derivatives=*/true, &here);
   Eigen::Map<Eigen::VectorXd>(hessian_.valuePtr(), hessian_.nonZeros()) = here.hessian;
   cholesky_.factorize(hessian_);
-  if (cholesky_.info() != Eigen::Success) return false;
+  if (cholesky_.info() != Eigen::Success) return 0;
   const Eigen::VectorXd direction = cholesky_.solve(-here.gradient);
   const double slope = here.gradient.dot(direction);
-  if (!(slope < 0)) return false;
+  if (!(slope < 0)) return 0;
   const Eigen::Map<const core::Positions> delta(direction.data(), positions_.rows(), 3);
   double alpha = 1.0;
   for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {
@@ -183,10 +183,10 @@ bool ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
     Evaluate(trial, body, /*derivatives=*/false, &there);
     if (there.energy <= here.energy + kArmijo * alpha * slope) {
       positions_ = trial;
-      return true;
+      return alpha * delta.rowwise().norm().maxCoeff();
     }
   }
-  return false;
+  return 0;
 }
 
 void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& body,

@@ -15,11 +15,13 @@ namespace fitbase::workers {
 
 // The fixed schedule every drape follows, whatever the body, so that drapes vary smoothly
 // with the body: the body moves from the mean avatar to the target in `homotopy_steps` equal
-// steps, then stays while the garment relaxes for `relax_steps`. Convergence is measured,
-// never used to stop early (an adaptive stop makes results jump between nearby bodies).
+// steps, then stays while the garment relaxes for `relax_steps`. Each step is solved to its
+// minimum (ClothSettings::newton_tolerance); the step count never depends on convergence,
+// which is measured, not used to stop early (stopping the schedule when the garment comes to
+// rest makes results jump between nearby bodies).
 struct DrapeSchedule {
-  int homotopy_steps = 30;
-  int relax_steps = 10;
+  int homotopy_steps = 20;
+  int relax_steps = 5;
 };
 
 struct DrapeInput {

@@ -44,6 +44,7 @@ v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedu
   v1::DrapeSettings proto;
   proto.set_step_seconds(s.step_seconds);
   proto.set_newton_iterations(static_cast<uint32_t>(s.newton_iterations));
+  proto.set_newton_tolerance(s.newton_tolerance);
   proto.set_gravity(s.gravity);
   proto.set_areal_density(s.areal_density);
   proto.set_stretch_stiffness(s.stretch_stiffness);
@@ -63,6 +64,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   RETURN_IF_ERROR(CheckPositive("step_seconds", p.step_seconds()));
   RETURN_IF_ERROR(
       CheckCount("newton_iterations", p.newton_iterations(), 1, kMaxNewtonIterations));
+  RETURN_IF_ERROR(CheckNonNegative("newton_tolerance", p.newton_tolerance()));
   RETURN_IF_ERROR(CheckNonNegative("gravity", p.gravity()));
   RETURN_IF_ERROR(CheckPositive("areal_density", p.areal_density()));
   RETURN_IF_ERROR(CheckPositive("stretch_stiffness", p.stretch_stiffness()));
@@ -76,6 +78,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   RETURN_IF_ERROR(CheckCount("relax_steps", p.relax_steps(), 0, kMaxScheduleSteps));
   *settings = ClothSettings{.step_seconds = p.step_seconds(),
                             .newton_iterations = static_cast<int>(p.newton_iterations()),
+                            .newton_tolerance = p.newton_tolerance(),
                             .gravity = p.gravity(),
                             .areal_density = p.areal_density(),
                             .stretch_stiffness = p.stretch_stiffness(),

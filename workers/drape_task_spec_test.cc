@@ -25,6 +25,7 @@ class DrapeTaskSpecTest : public ::testing::Test {
 TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   ClothSettings settings;
   settings.contact_stiffness = 3e7;
+  settings.newton_tolerance = 3e-5;
   const DrapeTask task = MakeDrapeTask(garment_, "XL", body_, settings, {7, 9});
   const v1::DrapeTaskSpec spec = DrapeTaskToSpec(task);
   absl::StatusOr<DrapeTask> parsed = DrapeTaskFromSpec(spec);
@@ -35,6 +36,7 @@ TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   EXPECT_EQ(back.garment, &spec.garment());
   EXPECT_EQ(back.body, task.body);
   EXPECT_EQ(back.settings.contact_stiffness, 3e7);
+  EXPECT_EQ(back.settings.newton_tolerance, 3e-5);
   EXPECT_EQ(back.schedule.homotopy_steps, 7);
   EXPECT_EQ(back.schedule.relax_steps, 9);
 }
@@ -64,6 +66,10 @@ TEST_F(DrapeTaskSpecTest, RefusesBadBodiesAndSettingsNamingTheProblem) {
   spec.mutable_settings()->set_newton_iterations(0);
   EXPECT_THAT(DrapeTaskFromSpec(spec),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "newton_iterations"));
+  spec = good;
+  spec.mutable_settings()->set_newton_tolerance(-1e-4);
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "newton_tolerance"));
   spec = good;
   spec.mutable_settings()->set_relax_steps(1000000);
   EXPECT_THAT(DrapeTaskFromSpec(spec),
