@@ -1,6 +1,6 @@
 // The distributed build's scaling on this machine:
 //   fitbase_build_bench --data DIR [--garment female_sportsuit01] [--components 10]
-//                       [--max-workers 2] [--homotopy-steps 30] [--relax-steps 10]
+//                       [--max-workers 2] [--homotopy-steps 20] [--relax-steps 5]
 // Builds one garment's size M (2N + 1 drapes) through a real coordinator on 127.0.0.1 with
 // 1, then 2, ... workers (one slot each, in this process), each run on a fresh store so no
 // drape is a cache hit, and prints per run the wall time of the drapes, the speed-up over one
@@ -26,6 +26,7 @@
 #include "services/grpc_client.h"
 #include "services/population_folder.h"
 #include "services/progress_reporter.h"
+#include "workers/drape.h"
 #include "workers/drape_worker.h"
 
 namespace fitbase {
@@ -39,8 +40,8 @@ struct Flags {
   std::string garment = "female_sportsuit01";
   int components = 10;
   int max_workers = 2;
-  int homotopy_steps = 30;
-  int relax_steps = 60;
+  int homotopy_steps = workers::DrapeSchedule{}.homotopy_steps;
+  int relax_steps = workers::DrapeSchedule{}.relax_steps;
 };
 
 struct Run {
