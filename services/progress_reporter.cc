@@ -12,6 +12,9 @@ namespace {
 
 // Redrawing more often than this only costs terminal bandwidth.
 constexpr std::chrono::milliseconds kRedrawInterval(100);
+// Off a terminal (a log, a pipe) a line this often shows a long run is alive without
+// flooding the log.
+constexpr std::chrono::seconds kLogInterval(60);
 
 std::string FormatSeconds(double seconds) {
   const int64_t s = static_cast<int64_t>(seconds + 0.5);
@@ -34,8 +37,13 @@ ProgressReporter::ProgressReporter(std::string label, int64_t total, std::ostrea
 
 void ProgressReporter::Update(int64_t done) {
   done_ = done;
-  if (!is_terminal_) return;
   const auto now = clock_();
+  if (!is_terminal_) {
+    if (now - last_draw_ < kLogInterval || done_ >= total_) return;
+    last_draw_ = now;
+    out_ << Line() << '\n' << std::flush;
+    return;
+  }
   if (now - last_draw_ < kRedrawInterval && done_ < total_) return;
   last_draw_ = now;
   out_ << '\r' << Line() << "\033[K" << std::flush;

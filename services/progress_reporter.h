@@ -10,8 +10,9 @@
 namespace fitbase::services {
 
 // A one-line progress display for long commands: "label  done/total  elapsed  ETA".
-// On a terminal the line is redrawn in place; otherwise only the final line is printed, so
-// logs stay readable. The clock is injected so tests can drive time.
+// On a terminal the line is redrawn in place; otherwise a line is printed at most once a
+// minute and at the end, so logs of long runs show progress and stay readable. The clock is
+// injected so tests can drive time.
 class ProgressReporter {
  public:
   using Clock = std::function<std::chrono::steady_clock::time_point()>;

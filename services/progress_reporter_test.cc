@@ -78,6 +78,25 @@ TEST(ProgressReporterTest, NonTerminalPrintsOnlyTheFinalLine) {
   EXPECT_THAT(out.str(), Not(HasSubstr("\033")));
 }
 
+TEST(ProgressReporterTest, NonTerminalPrintsALineAMinuteOnLongRuns) {
+  FakeClock clock;
+  std::ostringstream out;
+  ProgressReporter progress("drapes", 4, out, /*is_terminal=*/false, clock.AsClock());
+  clock.Advance(50s);
+  progress.Update(1);
+  EXPECT_EQ(out.str(), "");
+  clock.Advance(20s);
+  progress.Update(2);
+  EXPECT_EQ(out.str(), "drapes 2/4  elapsed 1m10s  ETA 1m10s\n");
+  clock.Advance(30s);
+  progress.Update(3);
+  EXPECT_EQ(out.str(), "drapes 2/4  elapsed 1m10s  ETA 1m10s\n");
+  clock.Advance(60s);
+  progress.Update(4);
+  progress.Finish();
+  EXPECT_EQ(out.str(), "drapes 2/4  elapsed 1m10s  ETA 1m10s\ndrapes 4/4  elapsed 2m40s\n");
+}
+
 TEST(ProgressReporterTest, TerminalRedrawsInPlace) {
   FakeClock clock;
   std::ostringstream out;
