@@ -47,11 +47,13 @@ absl::Status RunDrape(const DrapeFlags& flags) {
   const v1::DrapeReport& r = fit.report;
   std::cout << absl::StrFormat(
       "%s %s size %s (%s): penetration <0 mm %.2f%%, <1 mm %.2f%%; strain mean %.2f%%, p99 "
-      "%.2f%%, max %.2f%%%s; ease mean %.1f mm; %.2f s\nwrote %s\n",
+      "%.2f%% (stretch %.2f%%, compression %.2f%%), max %.2f%%%s; ease mean %.1f mm; %.2f s\n"
+      "wrote %s\n",
       flags.method, garment.name(), flags.size, flags.avatar, 100 * r.penetration_below_0mm(),
       100 * r.penetration_below_1mm(), 100 * r.strain_mean(), 100 * r.strain_p99(),
-      100 * r.strain_max(), r.overstretched() ? " (OVERSTRETCHED: size too small)" : "",
-      r.ease_mean_mm(), r.seconds(), flags.out);
+      100 * r.stretch_p99(), 100 * r.compression_p99(), 100 * r.strain_max(),
+      r.overstretched() ? " (OVERSTRETCHED: size too small)" : "", r.ease_mean_mm(),
+      r.seconds(), flags.out);
   return absl::OkStatus();
 }
 

@@ -212,7 +212,7 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     out->gradient(3 * v + 1) += m * settings_.gravity;
     pattern_->Add(v, v, m * inertia * Eigen::Matrix3d::Identity(), out->hessian);
   }
-  AddSprings(x, model_.edges, edge_rest_, settings_.stretch_stiffness, derivatives, out);
+  AddSprings(x, derivatives, out);
   AddBending(x, derivatives, out);
   for (const AnchorBinding& a : anchors_) {
     const double c = x(a.vertex, 1) - (OnSkin(body, a.skin).y() + a.height_above);
@@ -242,26 +242,26 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
   AddContacts(x, body, derivatives, out);
 }
 
-void ClothSolver::AddSprings(const core::Positions& x,
-                             const std::vector<std::array<int32_t, 2>>& pairs,
-                             const Eigen::VectorXd& rest, double stiffness, bool derivatives,
+void ClothSolver::AddSprings(const core::Positions& x, bool derivatives,
                              Evaluation* out) const {
-  for (size_t e = 0; e < pairs.size(); ++e) {
-    const auto [i, j] = pairs[e];
+  for (size_t e = 0; e < model_.edges.size(); ++e) {
+    const auto [i, j] = model_.edges[e];
     const Eigen::Vector3d d = (x.row(i) - x.row(j)).transpose();
     const double length = d.norm();
-    const double r = rest(static_cast<Eigen::Index>(e));
-    out->energy += 0.5 * stiffness * (length - r) * (length - r);
+    const double r = edge_rest_(static_cast<Eigen::Index>(e));
+    const double k =
+        length < r ? settings_.compression_stiffness : settings_.stretch_stiffness;
+    out->energy += 0.5 * k * (length - r) * (length - r);
     if (!derivatives) continue;
-    const Eigen::Vector3d force =
-        length < 1e-12 ? Eigen::Vector3d(stiffness * d) : Eigen::Vector3d(stiffness * (length - r) / length * d);
+    const Eigen::Vector3d force = length < 1e-12 ? Eigen::Vector3d(k * d)
+                                                 : Eigen::Vector3d(k * (length - r) / length * d);
     out->gradient.segment<3>(3 * i) += force;
     out->gradient.segment<3>(3 * j) -= force;
-    const Eigen::Matrix3d k = SpringBlock(d, length, r, stiffness);
+    const Eigen::Matrix3d block = SpringBlock(d, length, r, k);
     Eigen::VectorXd& h = out->hessian;
-    pattern_->Add(i, i, k, h);
-    pattern_->Add(j, j, k, h);
-    pattern_->Add(i, j, -k, h);
+    pattern_->Add(i, i, block, h);
+    pattern_->Add(j, j, block, h);
+    pattern_->Add(i, j, -block, h);
   }
 }
 

@@ -33,7 +33,19 @@ struct ClothSettings {
   double areal_density = 0.15;  // kg/m^2, a light woven fabric.
   // Spring constants, N/m. A spring of rest length r along an edge of roughly square cloth
   // stands for a strip about r wide, so one constant for all edges is a uniform material.
-  double stretch_stiffness = 2e4;  // Every triangle edge (quad diagonals shear).
+  double stretch_stiffness = 2e4;  // A triangle edge longer than its rest length (quad
+                                   // diagonals shear).
+  // An edge shorter than its rest length. Real cloth takes compression by buckling into
+  // wrinkles a few millimetres wide, far finer than a garment's 1-3 cm edges. A coarse mesh as
+  // stiff in compression as in stretch can buckle only at its own scale, into folds that snap
+  // between nearby bodies, or pushes the excess elsewhere: a too-long trouser leg on a short
+  // body pushed its hem 9 cm down over the foot, stretching it 50 to 68%, instead of
+  // gathering at the ankle. Soft compression stands for the fine wrinkles (Choi and Ko 2002).
+  // A fifth of the stretch stiffness: at 0.1 sigma along component 0 the second difference's
+  // p99 stays under 2 mm on 10 of the 12 shared garments (7 with compression as stiff as
+  // stretch). Softer still gathers more cloth but lets other folds snap (at a tenth, one on
+  // female_elegantsuit01 jumped by 22 mm).
+  double compression_stiffness = 4e3;
   // Bending rigidity, N m: a hinge's energy is B/2 * 3|e|^2/(A1 + A2) * (angle - rest)^2
   // (discrete shells), with the rest angles of the garment as made. Stiffer than most cloth
   // (its bending length (B / weight)^(1/3) is 11 cm; cotton's is 2-5 cm), on purpose: softer
@@ -131,9 +143,7 @@ class ClothSolver {
   // With `derivatives` false only the energy is computed (for the line search).
   void Evaluate(const core::Positions& x, const core::TriangleBvh& body, bool derivatives,
                 Evaluation* out) const;
-  void AddSprings(const core::Positions& x, const std::vector<std::array<int32_t, 2>>& pairs,
-                  const Eigen::VectorXd& rest, double stiffness, bool derivatives,
-                  Evaluation* out) const;
+  void AddSprings(const core::Positions& x, bool derivatives, Evaluation* out) const;
   void AddBending(const core::Positions& x, bool derivatives, Evaluation* out) const;
   void AddContacts(const core::Positions& x, const core::TriangleBvh& body, bool derivatives,
                    Evaluation* out) const;

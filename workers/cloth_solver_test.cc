@@ -61,5 +61,42 @@ TEST(ClothSolverTest, PushOutLeavesACreaseWhoseSidesTouchAlongIt) {
   EXPECT_GT(PushedDistance(body, inside), 0);
 }
 
+// How far the apex of an upright triangle standing on the floor sinks under its own weight,
+// m: only its two compressed edges hold it up.
+double UprightTriangleSag(const ClothSettings& settings) {
+  // The body only sets the floor (its lowest point, y = 0); it is too far away to touch.
+  const core::Mesh sphere = UvSphere(1.0, 16, 24, Eigen::RowVector3d(5, 1, 0));
+  const core::TriangleBvh body =
+      *core::TriangleBvh::Build(sphere.positions, core::Triangulate(sphere.faces));
+  // Starting within the floor's offset, so that the floor holds the base from the first step.
+  const double base = 0.5 * settings.collision_offset;
+  core::Positions garment(3, 3);
+  garment << -0.05, base, 0, 0.05, base, 0, 0, base + 0.1, 0;
+  core::Mesh mesh;
+  mesh.positions = garment;
+  mesh.faces.sizes = {3};
+  mesh.faces.indices = {0, 1, 2};
+  const ClothModel model = *BuildClothModel(garment, mesh.faces, 0.15);
+  ClothSolver solver(model, garment, PairLengths(garment, model.edges),
+                     HingeAngles(garment, model.hinges), body, settings);
+  for (int step = 0; step < 5; ++step) solver.Step(body);
+  const core::Positions& p = solver.positions();
+  return 0.1 - (p(2, 1) - 0.5 * (p(0, 1) + p(1, 1)));
+}
+
+TEST(ClothSolverTest, CompressedEdgesTakeTheCompressionStiffness) {
+  ClothSettings settings;
+  settings.anchor_stiffness = 0;  // The apex is the top opening's only vertex.
+  const double sag = UprightTriangleSag(settings);
+  EXPECT_GT(sag, 0);
+  ClothSettings stiffer_stretch = settings;
+  stiffer_stretch.stretch_stiffness *= 10;
+  // The base edge, stretched as the legs spread, moves the apex a little.
+  EXPECT_NEAR(UprightTriangleSag(stiffer_stretch), sag, 0.02 * sag);
+  ClothSettings softer_compression = settings;
+  softer_compression.compression_stiffness /= 10;
+  EXPECT_NEAR(UprightTriangleSag(softer_compression), 10 * sag, 0.5 * sag);
+}
+
 }  // namespace
 }  // namespace fitbase::workers

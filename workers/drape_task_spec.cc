@@ -48,6 +48,7 @@ v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedu
   proto.set_gravity(s.gravity);
   proto.set_areal_density(s.areal_density);
   proto.set_stretch_stiffness(s.stretch_stiffness);
+  proto.set_compression_stiffness(s.compression_stiffness);
   proto.set_bending_rigidity(s.bending_rigidity);
   proto.set_anchor_stiffness(s.anchor_stiffness);
   proto.set_skin_tie(s.skin_tie);
@@ -68,6 +69,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   RETURN_IF_ERROR(CheckNonNegative("gravity", p.gravity()));
   RETURN_IF_ERROR(CheckPositive("areal_density", p.areal_density()));
   RETURN_IF_ERROR(CheckPositive("stretch_stiffness", p.stretch_stiffness()));
+  RETURN_IF_ERROR(CheckPositive("compression_stiffness", p.compression_stiffness()));
   RETURN_IF_ERROR(CheckNonNegative("bending_rigidity", p.bending_rigidity()));
   RETURN_IF_ERROR(CheckNonNegative("anchor_stiffness", p.anchor_stiffness()));
   RETURN_IF_ERROR(CheckNonNegative("skin_tie", p.skin_tie()));
@@ -82,6 +84,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
                             .gravity = p.gravity(),
                             .areal_density = p.areal_density(),
                             .stretch_stiffness = p.stretch_stiffness(),
+                            .compression_stiffness = p.compression_stiffness(),
                             .bending_rigidity = p.bending_rigidity(),
                             .anchor_stiffness = p.anchor_stiffness(),
                             .skin_tie = p.skin_tie(),

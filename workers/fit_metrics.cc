@@ -56,19 +56,26 @@ FitMetrics MeasureFit(const core::Positions& positions,
                              static_cast<int64_t>(by_region[r].size()), Mean(by_region[r]),
                              Quantile(by_region[r], 0.95)});
   }
-  std::vector<double> strain;
+  std::vector<double> strain, stretch, compression;
   strain.reserve(edges.size());
+  stretch.reserve(edges.size());
+  compression.reserve(edges.size());
   for (size_t e = 0; e < edges.size(); ++e) {
     const double rest = edge_rest(static_cast<Eigen::Index>(e));
     // A weld (two coincident seam vertices) has no strain to speak of.
     if (rest < kMinStrainRest) continue;
     const double length = (positions.row(edges[e][0]) - positions.row(edges[e][1])).norm();
-    strain.push_back(std::abs(length / rest - 1.0));
+    const double change = length / rest - 1.0;
+    strain.push_back(std::abs(change));
+    stretch.push_back(std::max(change, 0.0));
+    compression.push_back(std::max(-change, 0.0));
   }
   m.strain_mean = Mean(strain);
   m.strain_p99 = Quantile(strain, 0.99);
   m.strain_max = strain.empty() ? 0.0 : *std::max_element(strain.begin(), strain.end());
-  m.overstretched = m.strain_p99 > kOverstretchStrain;
+  m.stretch_p99 = Quantile(stretch, 0.99);
+  m.compression_p99 = Quantile(compression, 0.99);
+  m.overstretched = m.stretch_p99 > kOverstretchStrain;
   return m;
 }
 

@@ -12,8 +12,10 @@
 
 namespace fitbase::workers {
 
-// A drape whose p99 edge strain exceeds this is flagged: the size is too small for the body
+// A drape whose p99 edge stretch exceeds this is flagged: the size is too small for the body
 // (a single edge over it is a local defect, reported as strain_max, not a verdict on the size).
+// Compression is no verdict on the size: it is cloth gathered where a garment is too long or
+// too wide for the body.
 inline constexpr double kOverstretchStrain = 0.15;
 // A garment vertex nearer the body than this (m) counts as penetrating in the strict measure.
 inline constexpr double kPenetrationDistance = 0.001;
@@ -33,7 +35,13 @@ struct FitMetrics {
   double strain_mean = 0;            // |l / l0 - 1| over the edges.
   double strain_p99 = 0;
   double strain_max = 0;
-  bool overstretched = false;
+  // Over the edges, l / l0 - 1 where an edge is longer than at rest (0 elsewhere): the cloth
+  // itself stretched.
+  double stretch_p99 = 0;
+  // Over the edges, 1 - l / l0 where an edge is shorter than at rest (0 elsewhere): cloth
+  // gathered into wrinkles finer than the mesh.
+  double compression_p99 = 0;
+  bool overstretched = false;  // stretch_p99 over kOverstretchStrain.
   double ease_mean_mm = 0;  // Signed garment-to-body distance.
   double ease_p50_mm = 0;
   double ease_p95_mm = 0;

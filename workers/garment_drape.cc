@@ -83,6 +83,8 @@ v1::DrapeReport ReportOf(const v1::Garment& garment, absl::string_view size,
   r.set_strain_mean(m.strain_mean);
   r.set_strain_p99(m.strain_p99);
   r.set_strain_max(m.strain_max);
+  r.set_stretch_p99(m.stretch_p99);
+  r.set_compression_p99(m.compression_p99);
   r.set_overstretched(m.overstretched);
   r.set_ease_mean_mm(m.ease_mean_mm);
   r.set_ease_p50_mm(m.ease_p50_mm);
