@@ -21,17 +21,21 @@ core::TriangleBvh TwoSpheres(double gap) {
   return *core::TriangleBvh::Build(positions, triangles);
 }
 
+// The cloth model of a garment that is one triangle, its three positions' only face.
+ClothModel OneTriangleModel(const core::Positions& garment) {
+  core::PolygonFaces faces;
+  faces.sizes = {3};
+  faces.indices = {0, 1, 2};
+  return *BuildClothModel(garment, faces, 0.15);
+}
+
 // Pushes a small triangle's first corner, at `inside`, out of `body`; returns its signed
 // distance afterwards, m.
 double PushedDistance(const core::TriangleBvh& body, const Eigen::RowVector3d& inside) {
   core::Positions garment(3, 3);
   garment << inside, inside + Eigen::RowVector3d(0, 0.01, 0.05),
       inside + Eigen::RowVector3d(0, -0.01, 0.05);
-  core::Mesh mesh;
-  mesh.positions = garment;
-  mesh.faces.sizes = {3};
-  mesh.faces.indices = {0, 1, 2};
-  const ClothModel model = *BuildClothModel(garment, mesh.faces, 0.15);
+  const ClothModel model = OneTriangleModel(garment);
   ClothSolver solver(model, garment, PairLengths(garment, model.edges),
                      HingeAngles(garment, model.hinges), body, ClothSettings{});
   solver.ResolveCollisions(body, 0.05, 0.001);
@@ -72,11 +76,7 @@ double UprightTriangleSag(const ClothSettings& settings) {
   const double base = 0.5 * settings.collision_offset;
   core::Positions garment(3, 3);
   garment << -0.05, base, 0, 0.05, base, 0, 0, base + 0.1, 0;
-  core::Mesh mesh;
-  mesh.positions = garment;
-  mesh.faces.sizes = {3};
-  mesh.faces.indices = {0, 1, 2};
-  const ClothModel model = *BuildClothModel(garment, mesh.faces, 0.15);
+  const ClothModel model = OneTriangleModel(garment);
   ClothSolver solver(model, garment, PairLengths(garment, model.edges),
                      HingeAngles(garment, model.hinges), body, settings);
   for (int step = 0; step < 5; ++step) solver.Step(body);
