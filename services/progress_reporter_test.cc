@@ -63,7 +63,7 @@ TEST(ProgressReporterTest, LongDurationsUseMinutesAndHours) {
   EXPECT_EQ(progress.Line(), "basis 2/3  elapsed 1h01m40s  ETA 30m50s");
 }
 
-TEST(ProgressReporterTest, NonTerminalPrintsOnlyTheFinalLine) {
+TEST(ProgressReporterTest, NonTerminalPrintsOnlyTheFinalLineOnShortRuns) {
   FakeClock clock;
   std::ostringstream out;
   ProgressReporter progress("avatars", 3, out, /*is_terminal=*/false, clock.AsClock());
