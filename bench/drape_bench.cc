@@ -8,7 +8,8 @@
 // its wearers, the second difference
 // |D(b + d) + D(b - d) - 2 D(b)| for d = 0.1 sigma along the first component (per vertex, its
 // largest coordinate: the worst vertex, the 99th percentile and the share over 1 mm), and how
-// far doubling the iteration budget moves the result, and the second difference at d / 2.
+// far doubling the iteration budget moves the result, and the second difference at d / 2 with
+// how the vertices over 1 mm scale (jumps, kinks or smooth).
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -207,14 +208,43 @@ void PrintPopulationTable(const std::vector<v1::Garment>& imported,
 }
 
 // The second difference |D(b + d) + D(b - d) - 2 D(b)| per vertex (its largest coordinate),
-// mm, sorted.
+// mm.
 std::vector<double> SecondDifference(const core::Positions& plus, const core::Positions& minus,
                                      const core::Positions& mid) {
   const core::Positions diff = plus + minus - 2 * mid;
   std::vector<double> second(static_cast<size_t>(diff.rows()));
   for (Eigen::Index v = 0; v < diff.rows(); ++v) second[v] = 1000 * diff.row(v).cwiseAbs().maxCoeff();
-  std::sort(second.begin(), second.end());
   return second;
+}
+
+std::vector<double> Sorted(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values;
+}
+
+// How the vertices over 1 mm at step d scale when the step halves: a jump keeps its second
+// difference (ratio under sqrt 2), a kink halves it (under 2 sqrt 2), a smooth map quarters it.
+struct Scaling {
+  int jumps = 0;
+  int kinks = 0;
+  double worst_ratio = 0;  // Of the worst vertex at d.
+};
+
+Scaling ClassifyScaling(const std::vector<double>& full, const std::vector<double>& half) {
+  Scaling scaling;
+  size_t worst = 0;
+  for (size_t v = 0; v < full.size(); ++v) {
+    if (full[v] > full[worst]) worst = v;
+    if (full[v] <= 1.0) continue;
+    const double ratio = full[v] / std::max(half[v], 1e-9);
+    if (ratio < std::sqrt(2.0)) {
+      ++scaling.jumps;
+    } else if (ratio < 2 * std::sqrt(2.0)) {
+      ++scaling.kinks;
+    }
+  }
+  scaling.worst_ratio = full[worst] / std::max(half[worst], 1e-9);
+  return scaling;
 }
 
 double P99(const std::vector<double>& sorted) {
@@ -224,7 +254,8 @@ double P99(const std::vector<double>& sorted) {
 // Per garment, on the average body of the garment's wearers (man for male_*, else woman):
 // a men's suit on a woman is a poor fit whose folds say little about the solver. The second
 // difference is also taken at half the step: a map smooth at this scale quarters it, one with
-// kinks (a contact starting or ending between the bodies) halves it, a jump keeps it.
+// kinks (a contact starting or ending between the bodies) halves it, a jump keeps it; the
+// vertices over 1 mm are counted by which they do.
 void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
                      const v1::AvatarBasis& basis, int jobs) {
   auto pca = proto::PcaBasisFromProto(basis);
@@ -233,8 +264,9 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
   std::printf("\nsmoothness, size M, d = 0.1 sigma along component 0 (mm; body moves %.1f mm "
               "mean, %.1f max):\n",
               1000 * delta.rowwise().norm().mean(), 1000 * delta.rowwise().norm().maxCoeff());
-  std::printf("%-22s %-6s %12s %12s %9s %13s %13s %15s\n", "garment", "body", "2nd_diff_max",
-              "2nd_diff_p99", "over_1mm", "half_d_max", "half_d_p99", "budget_x2_mean");
+  std::printf("%-22s %-6s %12s %12s %9s %13s %13s %10s %11s %15s\n", "garment", "body",
+              "2nd_diff_max", "2nd_diff_p99", "over_1mm", "half_d_max", "half_d_p99",
+              "max/half", "jumps/kinks", "budget_x2_mean");
   for (const v1::Garment& g : imported) {
     const bool male = absl::StartsWith(g.name(), "male_");
     const Body& body = *std::find_if(bodies.begin(), bodies.end(), [&](const Body& b) {
@@ -262,15 +294,18 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
       continue;
     }
     const core::Positions& mid = runs[0].fit->positions;
-    const std::vector<double> second =
+    const std::vector<double> full =
         SecondDifference(runs[1].fit->positions, runs[2].fit->positions, mid);
-    const std::vector<double> half =
+    const std::vector<double> halved =
         SecondDifference(runs[4].fit->positions, runs[5].fit->positions, mid);
+    const Scaling scaling = ClassifyScaling(full, halved);
+    const std::vector<double> second = Sorted(full);
+    const std::vector<double> half = Sorted(halved);
     const double over = static_cast<double>(second.end() - std::upper_bound(second.begin(), second.end(), 1.0)) / second.size();
     const double budget = 1000 * (runs[3].fit->positions - mid).rowwise().norm().mean();
-    std::printf("%-22s %-6s %12.3f %12.3f %8.1f%% %13.3f %13.3f %15.3f\n", g.name().c_str(),
-                body.name.c_str(), second.back(), P99(second), 100 * over, half.back(),
-                P99(half), budget);
+    std::printf("%-22s %-6s %12.3f %12.3f %8.1f%% %13.3f %13.3f %10.2f %5d/%-5d %15.3f\n",
+                g.name().c_str(), body.name.c_str(), second.back(), P99(second), 100 * over,
+                half.back(), P99(half), scaling.worst_ratio, scaling.jumps, scaling.kinks, budget);
   }
 }
 

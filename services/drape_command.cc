@@ -62,11 +62,13 @@ absl::Status RunDrape(const DrapeFlags& flags) {
 void AddDrapeScheduleOptions(CLI::App* command, workers::DrapeSchedule& schedule) {
   command
       ->add_option("--homotopy-steps", schedule.homotopy_steps,
-                   "Drape steps moving the body from the mean avatar (default: 30)")
+                   absl::StrCat("Drape steps moving the body from the mean avatar (default: ",
+                                schedule.homotopy_steps, ")"))
       ->check(CLI::Range(0, 10000));
   command
       ->add_option("--relax-steps", schedule.relax_steps,
-                   "Drape steps relaxing on the target body (default: 10)")
+                   absl::StrCat("Drape steps relaxing on the target body (default: ",
+                                schedule.relax_steps, ")"))
       ->check(CLI::Range(0, 10000));
 }
 

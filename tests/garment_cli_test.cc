@@ -1,6 +1,7 @@
 // End-to-end tests of `fitbase garment import` and `fitbase drape` on a shared garment.
 #include <string>
 
+#include "absl/strings/str_cat.h"
 #include "core/garment_obj.h"
 #include "fitbase/v1/garment.pb.h"
 #include "gmock/gmock.h"
@@ -8,6 +9,7 @@
 #include "proto/json_codec.h"
 #include "proto/message_file.h"
 #include "tests/cli_runner.h"
+#include "workers/drape.h"
 
 namespace fitbase {
 namespace {
@@ -76,6 +78,15 @@ TEST_F(GarmentCliTest, DrapeKeepsTopologyAndStaysOutsideTheBody) {
     EXPECT_THAT(json, HasSubstr(std::string("\"") + key + "\"")) << key;
   }
   EXPECT_EQ(Report("m").penetration_below_0mm(), 0.0);
+}
+
+TEST_F(GarmentCliTest, HelpStatesTheScheduleADrapeRuns) {
+  const Result r = RunFitbase({"drape", "--help"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const workers::DrapeSchedule schedule;
+  EXPECT_THAT(r.out,
+              HasSubstr(absl::StrCat("mean avatar (default: ", schedule.homotopy_steps, ")")));
+  EXPECT_THAT(r.out, HasSubstr(absl::StrCat("target body (default: ", schedule.relax_steps, ")")));
 }
 
 TEST_F(GarmentCliTest, RepeatedDrapeGivesIdenticalBytes) {
