@@ -22,8 +22,8 @@
 #include <thread>
 
 #include "CLI/CLI.hpp"
-#include "absl/strings/str_format.h"
 #include "absl/strings/match.h"
+#include "absl/strings/str_format.h"
 #include "absl/strings/str_replace.h"
 #include "absl/strings/str_split.h"
 #include "core/body_model.h"
@@ -47,8 +47,8 @@ std::vector<Body> TestBodies(const core::BodyModel& model) {
     double gender, weight, height, muscle;
   };
   const Spec specs[] = {
-      {"woman", 0.05, 0.5, 0.5, 0.5},       {"woman-heavy", 0.05, 0.9, 0.5, 0.5},
-      {"woman-thin", 0.05, 0.15, 0.5, 0.4}, {"woman-tall", 0.05, 0.5, 0.85, 0.5},
+      {"woman", 0.05, 0.5, 0.5, 0.5},        {"woman-heavy", 0.05, 0.9, 0.5, 0.5},
+      {"woman-thin", 0.05, 0.15, 0.5, 0.4},  {"woman-tall", 0.05, 0.5, 0.85, 0.5},
       {"woman-short", 0.05, 0.5, 0.15, 0.5}, {"man", 0.95, 0.5, 0.5, 0.5},
       {"man-heavy", 0.95, 0.9, 0.5, 0.6},    {"man-thin", 0.95, 0.15, 0.5, 0.4},
       {"man-tall", 0.95, 0.5, 0.85, 0.5},    {"man-short", 0.95, 0.5, 0.15, 0.5},
@@ -100,16 +100,14 @@ void WriteRows(const std::string& path, const std::vector<v1::Garment>& imported
     rows << absl::StrFormat(
         "%s,%s,%s,%.3f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%d,%.2f,%.4f,\"%s\"\n",
         imported[g].name(), bodies[b].name, size_list[s], r.seconds(), r.penetration_below_0mm(),
-        r.penetration_below_1mm(), r.strain_mean(), r.strain_p99(), r.strain_max(),
-        r.stretch_p99(), r.compression_p99(), r.overstretched(), r.ease_mean_mm(),
-        r.converged_max_move_mm(), error);
+        r.penetration_below_1mm(), r.strain_mean(), r.strain_p99(), r.strain_max(), r.stretch_p99(),
+        r.compression_p99(), r.overstretched(), r.ease_mean_mm(), r.converged_max_move_mm(), error);
   }
   if (!rows) std::cerr << "could not write " << path << "\n";
 }
 
 // Every garment in every size on every body, `jobs` drapes side by side.
-void PrintPopulationTable(const std::vector<v1::Garment>& imported,
-                          const std::vector<Body>& bodies,
+void PrintPopulationTable(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
                           const std::vector<std::string>& size_list, int jobs,
                           const std::string& rows_path) {
   std::vector<DrapeTask> tasks;
@@ -123,10 +121,12 @@ void PrintPopulationTable(const std::vector<v1::Garment>& imported,
                                       services::StderrIsTerminal());
   ForEachSideBySide(tasks.size(), jobs, [&](size_t i) {
     const DrapeTask& t = tasks[i];
-    auto fit = workers::DrapeGarment(imported[t.garment], size_list[t.size],
-                                     bodies[t.body].positions);
-    if (fit.ok()) reports[i] = fit->report;
-    else reports[i].set_method(std::string(fit.status().message()));
+    auto fit =
+        workers::DrapeGarment(imported[t.garment], size_list[t.size], bodies[t.body].positions);
+    if (fit.ok())
+      reports[i] = fit->report;
+    else
+      reports[i].set_method(std::string(fit.status().message()));
     std::lock_guard<std::mutex> lock(progress_mutex);
     progress.Update(static_cast<int64_t>(++done));
   });
@@ -181,15 +181,15 @@ void PrintPopulationTable(const std::vector<v1::Garment>& imported,
   auto over_8 = [](const std::vector<double>& v) {
     return std::count_if(v.begin(), v.end(), [](double x) { return x > 0.08; });
   };
-  std::printf("\n%zu drapes (%zu garments x %zu bodies x %zu sizes): %.2f s per drape on one "
-              "core; worst penetration <0 mm %.3f%%, <1 mm %.3f%%; %d flagged (stretch p99 > "
-              "15%%)\nunflagged: strain mean %.2f%%; worst p99 of strain %.2f%%, of stretch "
-              "%.2f%%, of compression %.2f%%; p99 over 8%% in %td (strain), %td (stretch)\n",
-              tasks.size(), imported.size(), bodies.size(), size_list.size(),
-              all_seconds / static_cast<double>(tasks.size()), 100 * all_below0, 100 * all_below1,
-              flagged_total, ok_mean.empty() ? 0 : 100 * mean_strain / ok_mean.size(),
-              100 * worst(ok_p99), 100 * worst(ok_stretch), 100 * worst(ok_compression),
-              over_8(ok_p99), over_8(ok_stretch));
+  std::printf(
+      "\n%zu drapes (%zu garments x %zu bodies x %zu sizes): %.2f s per drape on one "
+      "core; worst penetration <0 mm %.3f%%, <1 mm %.3f%%; %d flagged (stretch p99 > "
+      "15%%)\nunflagged: strain mean %.2f%%; worst p99 of strain %.2f%%, of stretch "
+      "%.2f%%, of compression %.2f%%; p99 over 8%% in %td (strain), %td (stretch)\n",
+      tasks.size(), imported.size(), bodies.size(), size_list.size(),
+      all_seconds / static_cast<double>(tasks.size()), 100 * all_below0, 100 * all_below1,
+      flagged_total, ok_mean.empty() ? 0 : 100 * mean_strain / ok_mean.size(), 100 * worst(ok_p99),
+      100 * worst(ok_stretch), 100 * worst(ok_compression), over_8(ok_p99), over_8(ok_stretch));
   std::printf("per body (mean over garments and sizes):\n");
   for (size_t b = 0; b < bodies.size(); ++b) {
     double ease = 0, strain = 0;
@@ -201,10 +201,9 @@ void PrintPopulationTable(const std::vector<v1::Garment>& imported,
       strain += reports[i].strain_mean();
       flagged += reports[i].overstretched();
     }
-    std::printf("  %-12s ease %6.1f mm  strain mean %5.2f%%  flagged %d/%d\n", bodies[b].name.c_str(),
-                ease / count, 100 * strain / count, flagged, count);
+    std::printf("  %-12s ease %6.1f mm  strain mean %5.2f%%  flagged %d/%d\n",
+                bodies[b].name.c_str(), ease / count, 100 * strain / count, flagged, count);
   }
-
 }
 
 // The second difference |D(b + d) + D(b - d) - 2 D(b)| per vertex (its largest coordinate),
@@ -213,7 +212,8 @@ std::vector<double> SecondDifference(const core::Positions& plus, const core::Po
                                      const core::Positions& mid) {
   const core::Positions diff = plus + minus - 2 * mid;
   std::vector<double> second(static_cast<size_t>(diff.rows()));
-  for (Eigen::Index v = 0; v < diff.rows(); ++v) second[v] = 1000 * diff.row(v).cwiseAbs().maxCoeff();
+  for (Eigen::Index v = 0; v < diff.rows(); ++v)
+    second[v] = 1000 * diff.row(v).cwiseAbs().maxCoeff();
   return second;
 }
 
@@ -261,12 +261,13 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
   auto pca = proto::PcaBasisFromProto(basis);
   const Eigen::VectorXd step = 0.1 * std::sqrt(pca->variances(0)) * pca->components.col(0);
   const core::Positions delta = Eigen::Map<const core::Positions>(step.data(), step.size() / 3, 3);
-  std::printf("\nsmoothness, size M, d = 0.1 sigma along component 0 (mm; body moves %.1f mm "
-              "mean, %.1f max):\n",
-              1000 * delta.rowwise().norm().mean(), 1000 * delta.rowwise().norm().maxCoeff());
+  std::printf(
+      "\nsmoothness, size M, d = 0.1 sigma along component 0 (mm; body moves %.1f mm "
+      "mean, %.1f max):\n",
+      1000 * delta.rowwise().norm().mean(), 1000 * delta.rowwise().norm().maxCoeff());
   std::printf("%-22s %-6s %12s %12s %9s %13s %13s %10s %11s %15s\n", "garment", "body",
-              "2nd_diff_max", "2nd_diff_p99", "over_1mm", "half_d_max", "half_d_p99",
-              "max/half", "jumps/kinks", "budget_x2_mean");
+              "2nd_diff_max", "2nd_diff_p99", "over_1mm", "half_d_max", "half_d_p99", "max/half",
+              "jumps/kinks", "budget_x2_mean");
   for (const v1::Garment& g : imported) {
     const bool male = absl::StartsWith(g.name(), "male_");
     const Body& body = *std::find_if(bodies.begin(), bodies.end(), [&](const Body& b) {
@@ -281,13 +282,13 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
       workers::DrapeSchedule schedule;
       absl::StatusOr<workers::GarmentFit> fit = absl::UnknownError("not run");
     };
-    std::vector<Run> runs = {{b, {}},           {b + delta, {}},       {b - delta, {}},
-                             {b, twice},        {b + 0.5 * delta, {}}, {b - 0.5 * delta, {}}};
+    std::vector<Run> runs = {{b, {}},    {b + delta, {}},       {b - delta, {}},
+                             {b, twice}, {b + 0.5 * delta, {}}, {b - 0.5 * delta, {}}};
     ForEachSideBySide(runs.size(), jobs, [&](size_t i) {
       runs[i].fit = workers::DrapeGarment(g, "M", runs[i].body, {}, runs[i].schedule);
     });
-    if (const auto failed = std::find_if(runs.begin(), runs.end(),
-                                         [](const Run& r) { return !r.fit.ok(); });
+    if (const auto failed =
+            std::find_if(runs.begin(), runs.end(), [](const Run& r) { return !r.fit.ok(); });
         failed != runs.end()) {
       std::printf("%-22s %-6s %s\n", g.name().c_str(), body.name.c_str(),
                   std::string(failed->fit.status().message()).c_str());
@@ -301,7 +302,9 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
     const Scaling scaling = ClassifyScaling(full, halved);
     const std::vector<double> second = Sorted(full);
     const std::vector<double> half = Sorted(halved);
-    const double over = static_cast<double>(second.end() - std::upper_bound(second.begin(), second.end(), 1.0)) / second.size();
+    const double over =
+        static_cast<double>(second.end() - std::upper_bound(second.begin(), second.end(), 1.0)) /
+        second.size();
     const double budget = 1000 * (runs[3].fit->positions - mid).rowwise().norm().mean();
     std::printf("%-22s %-6s %12.3f %12.3f %8.1f%% %13.3f %13.3f %10.2f %5d/%-5d %15.3f\n",
                 g.name().c_str(), body.name.c_str(), second.back(), P99(second), 100 * over,
@@ -338,7 +341,8 @@ int Main(int argc, char** argv) {
   }
   std::vector<std::string> names;
   if (garments == "all") {
-    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(data) / "clothes")) {
+    for (const auto& entry :
+         std::filesystem::directory_iterator(std::filesystem::path(data) / "clothes")) {
       names.push_back(entry.path().filename().string());
     }
     std::sort(names.begin(), names.end());
@@ -351,7 +355,8 @@ int Main(int argc, char** argv) {
 
   std::vector<v1::Garment> imported;
   for (const std::string& name : names) {
-    const std::filesystem::path cache = out.empty() ? "" : std::filesystem::path(out) / (name + ".fbg");
+    const std::filesystem::path cache =
+        out.empty() ? "" : std::filesystem::path(out) / (name + ".fbg");
     services::GarmentImportPaths paths;
     paths.mhclo = std::filesystem::path(data) / "clothes" / name / (name + ".mhclo");
     absl::StatusOr<services::GarmentImportRequest> request =
