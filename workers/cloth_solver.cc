@@ -183,9 +183,7 @@ double ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
     Evaluate(trial, body, /*derivatives=*/false, &there);
     if (there.energy <= here.energy + kArmijo * alpha * slope) {
       positions_ = trial;
-      // The full step, not the move taken: a cut step moves little while the minimum may
-      // still be millimetres away.
-      return delta.rowwise().norm().maxCoeff();
+      return alpha * delta.rowwise().norm().maxCoeff();
     }
   }
   return 0;

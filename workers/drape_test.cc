@@ -102,7 +102,7 @@ TEST_F(DrapeTest, DoublingTheBudgetBarelyMovesTheResult) {
 }
 
 TEST_F(DrapeTest, EveryStepIsSolvedToItsMinimum) {
-  // The default settings stop a step once a Newton step moves no vertex by 0.1 mm: as good as
+  // The default settings stop a step once an iteration moves no vertex by 0.1 mm: as good as
   // solving every step exactly, where a fixed single iteration per step is not.
   ClothSettings exact;
   exact.newton_iterations = 200;
