@@ -255,8 +255,7 @@ double P99(const std::vector<double>& sorted) {
 
 // Per garment, on the average body of the garment's wearers (man for male_*, else woman):
 // a men's suit on a woman is a poor fit whose folds say little about the solver. The second
-// difference is also taken at half the step: a map smooth at this scale quarters it, one with
-// kinks halves it, a jump keeps it; the vertices over 1 mm are counted by which they do.
+// difference is also taken at half the step, to tell kinks from jumps (ClassifyScaling).
 void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
                      const v1::AvatarBasis& basis, int jobs) {
   auto pca = proto::PcaBasisFromProto(basis);
