@@ -31,6 +31,7 @@
 #include "proto/message_file.h"
 #include "services/garment_importer.h"
 #include "services/progress_reporter.h"
+#include "workers/fit_metrics.h"
 #include "workers/garment_drape.h"
 
 namespace fitbase {
@@ -217,11 +218,6 @@ std::vector<double> SecondDifference(const core::Positions& plus, const core::Po
   return second;
 }
 
-std::vector<double> Sorted(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values;
-}
-
 // How the vertices over 1 mm at step d scale when the step halves: a smooth map quarters the
 // second difference, a kink (a contact starting or ending between the bodies) at least halves
 // it. One that stays (ratio under sqrt 2) is a jump, or kinks of both signs within the step
@@ -247,10 +243,6 @@ Scaling ClassifyScaling(const std::vector<double>& full, const std::vector<doubl
   }
   scaling.worst_ratio = full[worst] / std::max(half[worst], 1e-9);
   return scaling;
-}
-
-double P99(const std::vector<double>& sorted) {
-  return sorted[static_cast<size_t>(0.99 * static_cast<double>(sorted.size() - 1))];
 }
 
 // Per garment, on the average body of the garment's wearers (man for male_*, else woman):
@@ -297,18 +289,18 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
     const core::Positions& mid = runs[0].fit->positions;
     const std::vector<double> full =
         SecondDifference(runs[1].fit->positions, runs[2].fit->positions, mid);
-    const std::vector<double> halved =
+    const std::vector<double> half =
         SecondDifference(runs[4].fit->positions, runs[5].fit->positions, mid);
-    const Scaling scaling = ClassifyScaling(full, halved);
-    const std::vector<double> second = Sorted(full);
-    const std::vector<double> half = Sorted(halved);
-    const double over =
-        static_cast<double>(second.end() - std::upper_bound(second.begin(), second.end(), 1.0)) /
-        second.size();
+    const Scaling scaling = ClassifyScaling(full, half);
+    const double over = static_cast<double>(std::count_if(full.begin(), full.end(),
+                                                          [](double mm) { return mm > 1.0; })) /
+                        static_cast<double>(full.size());
     const double budget = 1000 * (runs[3].fit->positions - mid).rowwise().norm().mean();
     std::printf("%-22s %-6s %12.3f %12.3f %8.1f%% %13.3f %13.3f %10.2f %5d/%-5d %15.3f\n",
-                g.name().c_str(), body.name.c_str(), second.back(), P99(second), 100 * over,
-                half.back(), P99(half), scaling.worst_ratio, scaling.steady, scaling.kinks, budget);
+                g.name().c_str(), body.name.c_str(), *std::max_element(full.begin(), full.end()),
+                workers::Quantile(full, 0.99), 100 * over,
+                *std::max_element(half.begin(), half.end()), workers::Quantile(half, 0.99),
+                scaling.worst_ratio, scaling.steady, scaling.kinks, budget);
   }
 }
 
