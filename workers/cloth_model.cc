@@ -1,6 +1,7 @@
 #include "workers/cloth_model.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 
@@ -135,6 +136,21 @@ Eigen::VectorXd PairLengths(const core::Positions& positions,
         (positions.row(pairs[e][0]) - positions.row(pairs[e][1])).norm();
   }
   return lengths;
+}
+
+Eigen::VectorXd TriangleRestAreas(const ClothModel& model, const Eigen::VectorXd& edge_rest) {
+  auto rest = [&](int32_t i, int32_t j) {
+    const auto at = std::lower_bound(model.edges.begin(), model.edges.end(), Sorted(i, j));
+    return edge_rest(at - model.edges.begin());
+  };
+  Eigen::VectorXd areas(model.triangles.rows());
+  for (Eigen::Index t = 0; t < model.triangles.rows(); ++t) {
+    const auto tri = model.triangles.row(t);
+    const double a = rest(tri(0), tri(1)), b = rest(tri(1), tri(2)), c = rest(tri(2), tri(0));
+    const double q = (a + b + c) * (-a + b + c) * (a - b + c) * (a + b - c);
+    areas(t) = q > 0 ? 0.25 * std::sqrt(q) : 0;
+  }
+  return areas;
 }
 
 }  // namespace fitbase::workers

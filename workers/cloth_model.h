@@ -43,6 +43,11 @@ Eigen::VectorXd HingeAngles(const core::Positions& positions,
 Eigen::VectorXd PairLengths(const core::Positions& positions,
                             const std::vector<std::array<int32_t, 2>>& pairs);
 
+// Areas of `model.triangles` (T) whose sides have the rest lengths `edge_rest` (per
+// model.edges, m), by Heron's formula, m^2: a sized garment's triangles at rest. 0 for a
+// triangle whose rest lengths do not close.
+Eigen::VectorXd TriangleRestAreas(const ClothModel& model, const Eigen::VectorXd& edge_rest);
+
 }  // namespace fitbase::workers
 
 #endif  // FITBASE_WORKERS_CLOTH_MODEL_H_

@@ -32,6 +32,14 @@ TEST(ClothModelTest, QuadGridConstraintsAndMasses) {
   // One piece, one boundary loop: every boundary vertex (all but the centre) is an anchor.
   EXPECT_EQ(model->anchor_vertices.size(), 8u);
   EXPECT_TRUE(std::is_sorted(model->edges.begin(), model->edges.end()));
+  // Each triangle is half a quad at rest; a garment graded 10% larger has 21% more area.
+  const Eigen::VectorXd rest = PairLengths(grid.positions, model->edges);
+  EXPECT_TRUE(TriangleRestAreas(*model, rest).isConstant(0.005, 1e-9));
+  EXPECT_TRUE(TriangleRestAreas(*model, 1.1 * rest).isConstant(0.00605, 1e-9));
+  // Rest lengths that cannot close a triangle give no area.
+  Eigen::VectorXd broken = rest;
+  broken(0) = 1;
+  EXPECT_EQ(TriangleRestAreas(*model, broken).minCoeff(), 0);
 }
 
 TEST(ClothModelTest, TubeAnchorsItsTopRing) {

@@ -106,6 +106,7 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
       settings_(settings),
       edge_rest_(std::move(edge_rest)),
       hinge_rest_(std::move(hinge_rest)),
+      triangle_rest_areas_(TriangleRestAreas(model, edge_rest_)),
       positions_(start),
       step_start_(start) {
   masses_ = Eigen::VectorXd::Zero(model.inverse_masses.size());
@@ -214,6 +215,7 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
   }
   AddSprings(x, derivatives, out);
   AddBending(x, derivatives, out);
+  AddAreaFloor(x, derivatives, out);
   for (const AnchorBinding& a : anchors_) {
     const double c = x(a.vertex, 1) - (OnSkin(body, a.skin).y() + a.height_above);
     out->energy += 0.5 * settings_.anchor_stiffness * c * c;
@@ -286,6 +288,32 @@ void ClothSolver::AddBending(const core::Positions& x, bool derivatives,
         pattern_->Add(v[a], v[b],
                       weight * hinge.gradient.col(a) * hinge.gradient.col(b).transpose(),
                       out->hessian);
+      }
+    }
+  }
+}
+
+void ClothSolver::AddAreaFloor(const core::Positions& x, bool derivatives, Evaluation* out) const {
+  const double k = settings_.stretch_stiffness;
+  for (Eigen::Index t = 0; t < model_.triangles.rows(); ++t) {
+    const double rest = triangle_rest_areas_(t);
+    if (rest == 0) continue;
+    const auto tri = model_.triangles.row(t);
+    const Eigen::Vector3d p[3] = {x.row(tri(0)), x.row(tri(1)), x.row(tri(2))};
+    const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
+    const double shortfall = settings_.area_floor - 0.5 * n.norm() / rest;
+    if (shortfall <= 0) continue;
+    out->energy += 0.5 * k * rest * shortfall * shortfall;
+    // A triangle crushed to a line has no normal, so no direction in which to reopen.
+    if (!derivatives || n.norm() == 0) continue;
+    // d area / d corner c = normal x (the side opposite c, taken counter-clockwise) / 2.
+    Eigen::Vector3d grad[3];
+    for (int c = 0; c < 3; ++c)
+      grad[c] = 0.5 * n.normalized().cross(p[(c + 2) % 3] - p[(c + 1) % 3]);
+    for (int a = 0; a < 3; ++a) {
+      out->gradient.segment<3>(3 * tri(a)) -= k * shortfall * grad[a];
+      for (int b = 0; b <= a; ++b) {
+        pattern_->Add(tri(a), tri(b), k / rest * grad[a] * grad[b].transpose(), out->hessian);
       }
     }
   }

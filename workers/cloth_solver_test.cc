@@ -98,5 +98,17 @@ TEST(ClothSolverTest, CompressedEdgesTakeTheCompressionStiffness) {
   EXPECT_NEAR(UprightTriangleSag(softer_compression), 10 * sag, 0.5 * sag);
 }
 
+TEST(ClothSolverTest, ACrushedTriangleKeepsTheAreaFloor) {
+  // Compression all but free: only the area floor holds the apex up.
+  ClothSettings settings;
+  settings.anchor_stiffness = 0;
+  settings.compression_stiffness = 1e-3;
+  ClothSettings no_floor = settings;
+  no_floor.area_floor = 0;
+  EXPECT_GT(UprightTriangleSag(no_floor), 0.09);
+  // The base keeps its length, so the height is the area's share.
+  EXPECT_NEAR(UprightTriangleSag(settings), 0.1 * (1 - settings.area_floor), 0.002);
+}
+
 }  // namespace
 }  // namespace fitbase::workers

@@ -30,6 +30,14 @@ absl::Status CheckNonNegative(const char* name, double value) {
   return absl::OkStatus();
 }
 
+absl::Status CheckShare(const char* name, double value) {
+  if (!(value >= 0 && value <= 1)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("drape setting ", name, " = ", value, " must be a share in [0, 1]"));
+  }
+  return absl::OkStatus();
+}
+
 absl::Status CheckCount(const char* name, uint32_t value, uint32_t low, uint32_t high) {
   if (value < low || value > high) {
     return absl::InvalidArgumentError(absl::StrCat("drape setting ", name, " = ", value,
@@ -49,6 +57,7 @@ v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedu
   proto.set_areal_density(s.areal_density);
   proto.set_stretch_stiffness(s.stretch_stiffness);
   proto.set_compression_stiffness(s.compression_stiffness);
+  proto.set_area_floor(s.area_floor);
   proto.set_bending_rigidity(s.bending_rigidity);
   proto.set_anchor_stiffness(s.anchor_stiffness);
   proto.set_skin_tie(s.skin_tie);
@@ -70,6 +79,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   RETURN_IF_ERROR(CheckPositive("areal_density", p.areal_density()));
   RETURN_IF_ERROR(CheckPositive("stretch_stiffness", p.stretch_stiffness()));
   RETURN_IF_ERROR(CheckPositive("compression_stiffness", p.compression_stiffness()));
+  RETURN_IF_ERROR(CheckShare("area_floor", p.area_floor()));
   RETURN_IF_ERROR(CheckNonNegative("bending_rigidity", p.bending_rigidity()));
   RETURN_IF_ERROR(CheckNonNegative("anchor_stiffness", p.anchor_stiffness()));
   RETURN_IF_ERROR(CheckNonNegative("skin_tie", p.skin_tie()));
@@ -85,6 +95,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
                             .areal_density = p.areal_density(),
                             .stretch_stiffness = p.stretch_stiffness(),
                             .compression_stiffness = p.compression_stiffness(),
+                            .area_floor = p.area_floor(),
                             .bending_rigidity = p.bending_rigidity(),
                             .anchor_stiffness = p.anchor_stiffness(),
                             .skin_tie = p.skin_tie(),

@@ -27,6 +27,7 @@ TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   settings.contact_stiffness = 3e7;
   settings.newton_tolerance = 3e-5;
   settings.compression_stiffness = 150;
+  settings.area_floor = 0.3;
   const DrapeTask task = MakeDrapeTask(garment_, "XL", body_, settings, {7, 9});
   const v1::DrapeTaskSpec spec = DrapeTaskToSpec(task);
   absl::StatusOr<DrapeTask> parsed = DrapeTaskFromSpec(spec);
@@ -39,6 +40,7 @@ TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   EXPECT_EQ(back.settings.contact_stiffness, 3e7);
   EXPECT_EQ(back.settings.newton_tolerance, 3e-5);
   EXPECT_EQ(back.settings.compression_stiffness, 150);
+  EXPECT_EQ(back.settings.area_floor, 0.3);
   EXPECT_EQ(back.schedule.homotopy_steps, 7);
   EXPECT_EQ(back.schedule.relax_steps, 9);
 }
@@ -76,6 +78,10 @@ TEST_F(DrapeTaskSpecTest, RefusesBadBodiesAndSettingsNamingTheProblem) {
   spec.mutable_settings()->set_compression_stiffness(0);
   EXPECT_THAT(DrapeTaskFromSpec(spec),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "compression_stiffness"));
+  spec = good;
+  spec.mutable_settings()->set_area_floor(1.5);
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "area_floor"));
   spec = good;
   spec.mutable_settings()->set_relax_steps(1000000);
   EXPECT_THAT(DrapeTaskFromSpec(spec),
