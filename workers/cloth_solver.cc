@@ -307,9 +307,9 @@ void ClothSolver::AddAreaFloor(const core::Positions& x, bool derivatives, Evalu
     // A triangle crushed to a line has no normal, so no direction in which to reopen.
     if (!derivatives || n.norm() == 0) continue;
     // d area / d corner c = normal x (the side opposite c, taken counter-clockwise) / 2.
+    const Eigen::Vector3d normal = n.normalized();
     Eigen::Vector3d grad[3];
-    for (int c = 0; c < 3; ++c)
-      grad[c] = 0.5 * n.normalized().cross(p[(c + 2) % 3] - p[(c + 1) % 3]);
+    for (int c = 0; c < 3; ++c) grad[c] = 0.5 * normal.cross(p[(c + 2) % 3] - p[(c + 1) % 3]);
     for (int a = 0; a < 3; ++a) {
       out->gradient.segment<3>(3 * tri(a)) -= k * shortfall * grad[a];
       for (int b = 0; b <= a; ++b) {
