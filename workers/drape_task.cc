@@ -18,8 +18,7 @@ std::string SimulatorDescription(const ClothSettings& s, const DrapeSchedule& sc
   return absl::StrFormat(
       "%s step=%.17g newton=%d tolerance=%.17g gravity=%.17g density=%.17g stretch=%.17g "
       "compression=%.17g area_floor=%.17g bending=%.17g anchor=%.17g tie=%.17g contact=%.17g "
-      "offset=%.17g "
-      "search=%.17g homotopy=%d relax=%d",
+      "offset=%.17g search=%.17g homotopy=%d relax=%d",
       kSimulatorVersion, s.step_seconds, s.newton_iterations, s.newton_tolerance, s.gravity,
       s.areal_density, s.stretch_stiffness, s.compression_stiffness, s.area_floor,
       s.bending_rigidity, s.anchor_stiffness, s.skin_tie, s.contact_stiffness, s.collision_offset,
