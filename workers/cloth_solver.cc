@@ -301,13 +301,14 @@ void ClothSolver::AddAreaFloor(const core::Positions& x, bool derivatives, Evalu
     const auto tri = model_.triangles.row(t);
     const Eigen::Vector3d p[3] = {x.row(tri(0)), x.row(tri(1)), x.row(tri(2))};
     const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
-    const double shortfall = settings_.area_floor - 0.5 * n.norm() / rest;
+    const double twice_area = n.norm();
+    const double shortfall = settings_.area_floor - 0.5 * twice_area / rest;
     if (shortfall <= 0) continue;
     out->energy += 0.5 * k * rest * shortfall * shortfall;
     // A triangle crushed to a line has no normal, so no direction in which to reopen.
-    if (!derivatives || n.norm() == 0) continue;
+    if (!derivatives || twice_area == 0) continue;
     // d area / d corner c = normal x (the side opposite c, taken counter-clockwise) / 2.
-    const Eigen::Vector3d normal = n.normalized();
+    const Eigen::Vector3d normal = n / twice_area;
     Eigen::Vector3d grad[3];
     for (int c = 0; c < 3; ++c) grad[c] = 0.5 * normal.cross(p[(c + 2) % 3] - p[(c + 1) % 3]);
     for (int a = 0; a < 3; ++a) {
