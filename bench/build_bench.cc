@@ -18,14 +18,14 @@
 #include "core/file_util.h"
 #include "core/status_macros.h"
 #include "fitbase/v1/coordinator.grpc.pb.h"
+#include "pipeline/avatar_basis_builder.h"
+#include "pipeline/garment_importer.h"
+#include "pipeline/population_folder.h"
+#include "pipeline/progress_reporter.h"
 #include "proto/message_file.h"
-#include "services/avatar_basis_builder.h"
-#include "services/call_auth.h"
-#include "services/coordinator_server.h"
-#include "services/garment_importer.h"
-#include "services/grpc_client.h"
-#include "services/population_folder.h"
-#include "services/progress_reporter.h"
+#include "services/build/coordinator_server.h"
+#include "services/rpc/call_auth.h"
+#include "services/rpc/channel.h"
 #include "workers/drape.h"
 #include "workers/drape_worker.h"
 
@@ -55,13 +55,13 @@ struct Run {
 absl::StatusOr<Run> BuildWith(int worker_count, const Flags& flags, const v1::AvatarBasis& basis,
                               const v1::Garment& garment, const std::filesystem::path& db) {
   std::filesystem::remove_all(db);
-  services::CoordinatorServerOptions options;
+  build::CoordinatorServerOptions options;
   options.db = db;
   options.listen = "127.0.0.1:0";
   options.data_dir = flags.data;
-  options.keys.AddKey(kAdminKey, {"bench", services::Role::kAdmin});
-  options.keys.AddKey(kWorkerKey, {"bench", services::Role::kWorker});
-  auto server = services::CoordinatorServer::Start(std::move(options));
+  options.keys.AddKey(kAdminKey, {"bench", rpc::Role::kAdmin});
+  options.keys.AddKey(kWorkerKey, {"bench", rpc::Role::kWorker});
+  auto server = build::CoordinatorServer::Start(std::move(options));
   if (!server.ok()) return server.status();
   storage::AssetStore& store = (*server)->store();
   if (absl::Status s = store.PublishAvatarBasis("bench", "women", basis.id(),
@@ -85,14 +85,14 @@ absl::StatusOr<Run> BuildWith(int worker_count, const Flags& flags, const v1::Av
     pool.push_back(std::make_unique<workers::DrapeWorker>(worker));
     threads.emplace_back([w = pool.back().get()] { w->Run(); });
   }
-  auto stub = v1::Coordinator::NewStub(services::OpenChannel(address));
+  auto stub = v1::Coordinator::NewStub(rpc::OpenChannel(address));
   v1::SubmitBuildRequest request;
   request.mutable_request()->set_garment_id(garment.id());
   request.mutable_request()->add_sizes("M");
   request.mutable_request()->set_homotopy_steps(static_cast<uint32_t>(flags.homotopy_steps));
   request.mutable_request()->set_relax_steps(static_cast<uint32_t>(flags.relax_steps));
   grpc::ClientContext submit_context;
-  services::AddApiKey(submit_context, kAdminKey);
+  rpc::AddApiKey(submit_context, kAdminKey);
   submit_context.set_deadline(absl::ToChronoTime(absl::Now() + absl::Seconds(60)));
   v1::Build build;
   const absl::Time start = absl::Now();
@@ -101,13 +101,13 @@ absl::StatusOr<Run> BuildWith(int worker_count, const Flags& flags, const v1::Av
   }
   Run run{.workers = worker_count, .tasks = static_cast<int>(build.tasks_total())};
   grpc::ClientContext watch_context;
-  services::AddApiKey(watch_context, kAdminKey);
+  rpc::AddApiKey(watch_context, kAdminKey);
   watch_context.set_deadline(absl::ToChronoTime(absl::Now() + absl::Hours(2)));
   v1::GetBuildRequest watch;
   watch.set_build_id(build.build_id());
   auto reader = stub->WatchBuild(&watch_context, watch);
-  services::ProgressReporter progress(absl::StrCat(worker_count, " worker(s): drapes"),
-                                      run.tasks, std::cerr, services::StderrIsTerminal());
+  pipeline::ProgressReporter progress(absl::StrCat(worker_count, " worker(s): drapes"),
+                                      run.tasks, std::cerr, pipeline::StderrIsTerminal());
   while (reader->Read(&build)) {
     progress.Update(build.tasks_done());
     if (run.drape_wall_seconds == 0 && build.tasks_done() == build.tasks_total()) {
@@ -125,14 +125,15 @@ absl::StatusOr<Run> BuildWith(int worker_count, const Flags& flags, const v1::Av
   get.set_build_id(build.build_id());
   get.set_with_tasks(true);
   grpc::ClientContext get_context;
-  services::AddApiKey(get_context, kAdminKey);
+  rpc::AddApiKey(get_context, kAdminKey);
   get_context.set_deadline(absl::ToChronoTime(absl::Now() + absl::Seconds(60)));
   v1::GetBuildResponse tasks;
   stub->GetBuild(&get_context, get, &tasks);
   for (const v1::Task& task : tasks.tasks()) {
     v1::DrapeResult result;
     auto bytes = store.GetDrapeResult(task.drape_key());
-    if (bytes.ok() && result.ParseFromString(*bytes)) run.drape_seconds += result.report().seconds();
+    if (bytes.ok() && result.ParseFromString(*bytes))
+      run.drape_seconds += result.report().seconds();
   }
   for (auto& worker : pool) worker->Drain();
   for (std::thread& thread : threads) thread.join();
@@ -143,18 +144,18 @@ absl::StatusOr<Run> BuildWith(int worker_count, const Flags& flags, const v1::Av
 absl::Status Main(const Flags& flags) {
   ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(flags.data));
   std::cerr << "avatar basis of 60 women with " << flags.components << " components...\n";
-  ASSIGN_OR_RETURN(services::Population population,
-                   services::SamplePopulation(model, core::PopulationPreset::kWomen, 1, 60));
+  ASSIGN_OR_RETURN(pipeline::Population population,
+                   pipeline::SamplePopulation(model, core::PopulationPreset::kWomen, 1, 60));
   core::ComponentSelection selection;
   selection.rule = core::ComponentSelection::Rule::kCount;
   selection.count = flags.components;
-  ASSIGN_OR_RETURN(v1::AvatarBasis basis, services::BuildAvatarBasis(population, selection));
+  ASSIGN_OR_RETURN(v1::AvatarBasis basis, pipeline::BuildAvatarBasis(population, selection));
   const std::filesystem::path dir = std::filesystem::path(flags.data) / "clothes" / flags.garment;
-  ASSIGN_OR_RETURN(services::GarmentImportRequest import,
-                   services::ReadGarmentImportFiles(
+  ASSIGN_OR_RETURN(pipeline::GarmentImportRequest import,
+                   pipeline::ReadGarmentImportFiles(
                        {.mhclo = dir / (flags.garment + ".mhclo"), .obj = {}, .size_meshes = {}}));
   import.sizes = {"M"};
-  ASSIGN_OR_RETURN(v1::Garment garment, services::ImportGarment(model, basis, import));
+  ASSIGN_OR_RETURN(v1::Garment garment, pipeline::ImportGarment(model, basis, import));
   const std::filesystem::path scratch =
       std::filesystem::temp_directory_path() / absl::StrCat("fitbase-build-bench-", getpid());
   std::filesystem::create_directories(scratch);

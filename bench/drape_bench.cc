@@ -27,10 +27,10 @@
 #include "absl/strings/str_replace.h"
 #include "absl/strings/str_split.h"
 #include "core/body_model.h"
+#include "pipeline/garment_importer.h"
+#include "pipeline/progress_reporter.h"
 #include "proto/avatar_basis_codec.h"
 #include "proto/message_file.h"
-#include "services/garment_importer.h"
-#include "services/progress_reporter.h"
 #include "workers/fit_metrics.h"
 #include "workers/garment_drape.h"
 
@@ -118,8 +118,8 @@ void PrintPopulationTable(const std::vector<v1::Garment>& imported, const std::v
   std::vector<v1::DrapeReport> reports(tasks.size());
   std::atomic<size_t> done{0};
   std::mutex progress_mutex;
-  services::ProgressReporter progress("drapes", static_cast<int64_t>(tasks.size()), std::cerr,
-                                      services::StderrIsTerminal());
+  pipeline::ProgressReporter progress("drapes", static_cast<int64_t>(tasks.size()), std::cerr,
+                                      pipeline::StderrIsTerminal());
   ForEachSideBySide(tasks.size(), jobs, [&](size_t i) {
     const DrapeTask& t = tasks[i];
     auto fit =
@@ -349,15 +349,15 @@ int Main(int argc, char** argv) {
   for (const std::string& name : names) {
     const std::filesystem::path cache =
         out.empty() ? "" : std::filesystem::path(out) / (name + ".fbg");
-    services::GarmentImportPaths paths;
+    pipeline::GarmentImportPaths paths;
     paths.mhclo = std::filesystem::path(data) / "clothes" / name / (name + ".mhclo");
-    absl::StatusOr<services::GarmentImportRequest> request =
-        services::ReadGarmentImportFiles(paths);
+    absl::StatusOr<pipeline::GarmentImportRequest> request =
+        pipeline::ReadGarmentImportFiles(paths);
     if (request.ok()) request->sizes = size_list;
     // A cached import is reused only if importing anew would give it the same id (same
     // basis, files, sizes and importer version).
     const absl::StatusOr<std::string> id =
-        request.ok() ? services::GarmentImportId(basis.id(), *request) : request.status();
+        request.ok() ? pipeline::GarmentImportId(basis.id(), *request) : request.status();
     v1::Garment garment;
     if (id.ok() && !cache.empty() && proto::ReadMessageFile(cache, &garment).ok() &&
         garment.id() == *id) {
@@ -365,7 +365,7 @@ int Main(int argc, char** argv) {
       continue;
     }
     absl::StatusOr<v1::Garment> result =
-        id.ok() ? services::ImportGarment(*model, basis, *request) : id.status();
+        id.ok() ? pipeline::ImportGarment(*model, basis, *request) : id.status();
     if (!result.ok()) {
       std::cerr << name << ": " << result.status().message() << "\n";
       return 1;

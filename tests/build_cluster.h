@@ -17,9 +17,9 @@
 #include "grpcpp/grpcpp.h"
 #include "gtest/gtest.h"
 #include "proto/message_file.h"
-#include "services/api_keys.h"
-#include "services/call_auth.h"
-#include "services/grpc_client.h"
+#include "services/rpc/api_keys.h"
+#include "services/rpc/call_auth.h"
+#include "services/rpc/channel.h"
 
 namespace fitbase {
 
@@ -35,14 +35,14 @@ struct TestKeys {
   static constexpr char kRivalCustomer[] = "fb_test_rival_customer";
 
   static std::string FileText() {
-    using services::HashApiKey;
+    using rpc::HashApiKey;
     return absl::StrCat(HashApiKey(kAdmin), " acme admin\n", HashApiKey(kIngestion),
                         " acme ingestion\n", HashApiKey(kCustomer), " acme customer\n",
                         HashApiKey(kWorker), " workers worker\n", HashApiKey(kRival),
                         " rival ingestion\n", HashApiKey(kRivalCustomer), " rival customer\n");
   }
-  static services::ApiKeyRegistry Registry() {
-    return *services::ApiKeyRegistry::Parse(FileText(), "test keys");
+  static rpc::ApiKeyRegistry Registry() {
+    return *rpc::ApiKeyRegistry::Parse(FileText(), "test keys");
   }
 };
 
@@ -50,13 +50,13 @@ struct TestKeys {
 inline std::unique_ptr<grpc::ClientContext> Call(const std::string& key, int seconds = 60) {
   auto context = std::make_unique<grpc::ClientContext>();
   context->set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(seconds));
-  if (!key.empty()) services::AddApiKey(*context, key);
+  if (!key.empty()) rpc::AddApiKey(*context, key);
   return context;
 }
 
 struct Clients {
   explicit Clients(const std::string& address)
-      : channel(services::OpenChannel(address)),
+      : channel(rpc::OpenChannel(address)),
         coordinator(v1::Coordinator::NewStub(channel)),
         queue(v1::WorkerQueue::NewStub(channel)),
         catalog(v1::Catalog::NewStub(channel)) {}

@@ -7,9 +7,9 @@
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "services/clock.h"
-#include "services/coordinator_server.h"
-#include "services/tls_credentials.h"
+#include "services/build/coordinator_server.h"
+#include "services/rpc/clock.h"
+#include "services/rpc/tls_credentials.h"
 #include "storage/asset_store.h"
 #include "tests/build_cluster.h"
 #include "workers/drape_worker.h"
@@ -42,7 +42,7 @@ class DistributedBuildTest : public ::testing::Test {
 
   void Start(int max_message_bytes = 64 << 20,
              std::shared_ptr<grpc::ServerCredentials> credentials = nullptr) {
-    services::CoordinatorServerOptions options;
+    build::CoordinatorServerOptions options;
     options.db = db_;
     options.listen = "127.0.0.1:0";
     options.data_dir = core::TestDataDir();
@@ -52,7 +52,7 @@ class DistributedBuildTest : public ::testing::Test {
     options.coordinator.max_attempts = 3;
     options.max_message_bytes = max_message_bytes;
     options.credentials = std::move(credentials);
-    auto server = services::CoordinatorServer::Start(std::move(options));
+    auto server = build::CoordinatorServer::Start(std::move(options));
     ASSERT_TRUE(server.ok()) << server.status();
     server_ = *std::move(server);
     address_ = absl::StrCat("127.0.0.1:", server_->port());
@@ -142,10 +142,10 @@ class DistributedBuildTest : public ::testing::Test {
     return {"acme", garment_.id(), "M", garment_.avatar_basis_id(), "linear"};
   }
 
-  services::ManualClock clock_{absl::FromUnixSeconds(1800000000)};
+  rpc::ManualClock clock_{absl::FromUnixSeconds(1800000000)};
   bool tls_ = false;  // Plaintext clients_ only talk to a plaintext server.
   std::filesystem::path db_;
-  std::unique_ptr<services::CoordinatorServer> server_;
+  std::unique_ptr<build::CoordinatorServer> server_;
   std::string address_;
   std::unique_ptr<Clients> clients_;
   v1::Garment garment_;
@@ -383,9 +383,9 @@ TEST_F(DistributedBuildTest, BadInputGetsTheRightCodeAndLeavesTheStoreUnchanged)
             grpc::StatusCode::NOT_FOUND);
   v1::CancelBuildRequest cancel;
   cancel.set_build_id(build.build_id());
-  EXPECT_EQ(
-      clients_->coordinator->CancelBuild(Call(TestKeys::kRival).get(), cancel, &ignored).error_code(),
-      grpc::StatusCode::NOT_FOUND);
+  EXPECT_EQ(clients_->coordinator->CancelBuild(Call(TestKeys::kRival).get(), cancel, &ignored)
+                .error_code(),
+            grpc::StatusCode::NOT_FOUND);
 
   v1::UploadGarmentRequest upload;
   upload.set_avatar_basis_id(garment_.avatar_basis_id());
@@ -488,41 +488,41 @@ TEST_F(DistributedBuildTest, WithMutualTlsOnlyCertifiedWorkersConnect) {
   const v1::Build build = Submit(SmallBuild(garment_.id()));
   server_->Shutdown(absl::Seconds(1));
   server_.reset();
-  auto server_credentials = services::TlsServerCredentials(
+  auto server_credentials = rpc::TlsServerCredentials(
       {.cert = Tls("server.pem"), .key = Tls("server.key"), .ca = Tls("ca.pem")});
   ASSERT_TRUE(server_credentials.ok()) << server_credentials.status();
   tls_ = true;
   Start(64 << 20, *server_credentials);
 
-  auto connect = [&](const services::TlsFiles& files) {
+  auto connect = [&](const rpc::TlsFiles& files) {
     grpc::ChannelArguments arguments;
     arguments.SetSslTargetNameOverride("fitbase-coordinator");
     return v1::WorkerQueue::NewStub(grpc::CreateCustomChannel(
-        address_, *services::TlsChannelCredentials(files), arguments));
+        address_, *rpc::TlsChannelCredentials(files), arguments));
   };
   v1::LeaseTaskRequest lease;
   lease.set_worker("probe");
   v1::LeaseTaskResponse leased;
   // No client certificate, one from another CA, and plaintext are all turned away.
-  for (const services::TlsFiles& files :
-       {services::TlsFiles{.cert = {}, .key = {}, .ca = Tls("ca.pem")},
-        services::TlsFiles{.cert = Tls("intruder.pem"), .key = Tls("intruder.key"),
+  for (const rpc::TlsFiles& files :
+       {rpc::TlsFiles{.cert = {}, .key = {}, .ca = Tls("ca.pem")},
+        rpc::TlsFiles{.cert = Tls("intruder.pem"), .key = Tls("intruder.key"),
                            .ca = Tls("ca.pem")}}) {
     EXPECT_EQ(connect(files)->LeaseTask(Call(TestKeys::kWorker, 5).get(), lease, &leased)
                   .error_code(),
               grpc::StatusCode::UNAVAILABLE);
   }
-  EXPECT_EQ(v1::WorkerQueue::NewStub(services::OpenChannel(address_))
+  EXPECT_EQ(v1::WorkerQueue::NewStub(rpc::OpenChannel(address_))
                 ->LeaseTask(Call(TestKeys::kWorker, 5).get(), lease, &leased)
                 .error_code(),
             grpc::StatusCode::UNAVAILABLE);
 
-  auto worker_credentials = services::TlsChannelCredentials(
+  auto worker_credentials = rpc::TlsChannelCredentials(
       {.cert = Tls("worker.pem"), .key = Tls("worker.key"), .ca = Tls("ca.pem")});
   ASSERT_TRUE(worker_credentials.ok()) << worker_credentials.status();
   StartWorkers(2, *worker_credentials);
   // Followed in process: the test's plaintext clients cannot reach this server.
-  services::BuildSnapshot snapshot;
+  build::BuildSnapshot snapshot;
   do {
     auto next = server_->coordinator().WaitForBuild("acme", build.build_id(), snapshot.revision,
                                                     absl::Now() + absl::Seconds(120));

@@ -5,17 +5,17 @@
 
 #include "absl/strings/str_format.h"
 
+#include "cli/customer_client.h"
 #include "core/garment_obj.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "pipeline/avatar_file.h"
 #include "proto/avatar_codec.h"
 #include "proto/draco_codec.h"
-#include "services/avatar_file.h"
-#include "services/clock.h"
-#include "services/customer_client.h"
-#include "services/coordinator_server.h"
-#include "services/fit_server.h"
+#include "services/build/coordinator_server.h"
+#include "services/fit/fit_server.h"
+#include "services/rpc/clock.h"
 #include "tests/build_cluster.h"
 #include "tests/cli_runner.h"
 #include "workers/drape_worker.h"
@@ -33,12 +33,12 @@ class FitServiceTest : public ::testing::Test {
     dir_ = core::ProcessTempDir() / "fit";
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
-    services::CoordinatorServerOptions options;
+    build::CoordinatorServerOptions options;
     options.db = dir_ / "db";
     options.listen = "127.0.0.1:0";
     options.data_dir = core::TestDataDir();
     options.keys = TestKeys::Registry();
-    auto coordinator = services::CoordinatorServer::Start(std::move(options));
+    auto coordinator = build::CoordinatorServer::Start(std::move(options));
     ASSERT_TRUE(coordinator.ok()) << coordinator.status();
     coordinator_ = *std::move(coordinator);
     Clients clients(absl::StrCat("127.0.0.1:", coordinator_->port()));
@@ -62,15 +62,15 @@ class FitServiceTest : public ::testing::Test {
     worker.Drain();
     thread.join();
 
-    services::FitServerOptions fit;
+    fit::FitServerOptions fit;
     fit.store = &coordinator_->store();
     fit.listen = "127.0.0.1:0";
     fit.keys = TestKeys::Registry();
     fit.catalog.clock = &clock_;
-    auto server = services::FitServer::Start(std::move(fit));
+    auto server = fit::FitServer::Start(std::move(fit));
     ASSERT_TRUE(server.ok()) << server.status();
     fit_ = *std::move(server);
-    stub_ = v1::FitService::NewStub(services::OpenChannel(absl::StrCat("127.0.0.1:", fit_->port())));
+    stub_ = v1::FitService::NewStub(rpc::OpenChannel(absl::StrCat("127.0.0.1:", fit_->port())));
   }
   void TearDown() override {
     if (fit_ != nullptr) fit_->Shutdown(absl::Seconds(1));
@@ -78,7 +78,7 @@ class FitServiceTest : public ::testing::Test {
   }
 
   v1::ProjectAvatarRequest AvatarRequest(int index, bool draco) {
-    auto avatar = services::ReadAvatarObj(SmallCatalogue() / "pop" /
+    auto avatar = pipeline::ReadAvatarObj(SmallCatalogue() / "pop" /
                                           absl::StrFormat("avatar-%05d.obj", index));
     EXPECT_TRUE(avatar.ok());
     v1::ProjectAvatarRequest request;
@@ -110,10 +110,10 @@ class FitServiceTest : public ::testing::Test {
     return stub_->FitGarment(Call(key).get(), request, &fitted).error_code();
   }
 
-  services::ManualClock clock_{absl::FromUnixSeconds(1800000000)};
+  rpc::ManualClock clock_{absl::FromUnixSeconds(1800000000)};
   std::filesystem::path dir_;
-  std::unique_ptr<services::CoordinatorServer> coordinator_;
-  std::unique_ptr<services::FitServer> fit_;
+  std::unique_ptr<build::CoordinatorServer> coordinator_;
+  std::unique_ptr<fit::FitServer> fit_;
   std::unique_ptr<v1::FitService::Stub> stub_;
   v1::Garment garment_;
 };
@@ -139,7 +139,7 @@ TEST_F(FitServiceTest, AFitOverGrpcMatchesTheLocalFitWithinTheDracoQuantization)
       stub_->GetGarmentTopology(Call(TestKeys::kCustomer).get(), topology_request, &topology).ok());
   auto wire = proto::DecodePositions(draco.positions(), vertices);
   ASSERT_TRUE(wire.ok());
-  auto from_draco = services::FromWireOrder(topology, *wire);
+  auto from_draco = cli::FromWireOrder(topology, *wire);
   auto from_raw = proto::DecodePositions(raw.positions(), vertices);
   ASSERT_TRUE(from_draco.ok() && from_raw.ok());
   EXPECT_GE(raw.positions().ByteSizeLong(), 4 * draco.positions().ByteSizeLong());
@@ -272,7 +272,8 @@ TEST_F(FitServiceTest, BadInputGetsClearCodesWhileOthersAreServed) {
   v1::FitGarmentRequest old_basis = request;
   old_basis.mutable_weights()->set_basis_id("an-older-basis");
   v1::FittedGarment fitted;
-  const grpc::Status refused = stub_->FitGarment(Call(TestKeys::kCustomer).get(), old_basis, &fitted);
+  const grpc::Status refused =
+      stub_->FitGarment(Call(TestKeys::kCustomer).get(), old_basis, &fitted);
   EXPECT_EQ(refused.error_code(), grpc::StatusCode::FAILED_PRECONDITION);
   EXPECT_THAT(refused.error_message(), HasSubstr(garment_.avatar_basis_id()));
 

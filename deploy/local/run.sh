@@ -75,7 +75,7 @@ umask 077
 mkdir -p "$dir"
 dir=$(cd "$dir" && pwd)
 
-# A key like fitbase's own (services/api_keys.h): "fb_" and 64 hex digits from 32 random bytes.
+# A key like fitbase's own (services/rpc/api_keys.h): "fb_" and 64 hex digits from 32 random bytes.
 new_key() { printf 'fb_%s' "$(head -c 32 /dev/urandom | od -An -tx1 | tr -d ' \n')"; }
 # The key file lists the SHA-256 of the key's bytes, no newline.
 key_hash() { printf '%s' "$1" | sha256sum | cut -d' ' -f1; }

@@ -1,0 +1,154 @@
+// fitbase customer project|fit|outfit: the fit service's calls as a shop makes them.
+#include <filesystem>
+#include <iostream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_split.h"
+#include "cli/cli_context.h"
+#include "cli/customer_client.h"
+#include "cli/remote_flags.h"
+#include "core/file_util.h"
+#include "core/garment_obj.h"
+#include "core/status_macros.h"
+#include "fitbase/v1/fit_service.grpc.pb.h"
+#include "pipeline/avatar_file.h"
+#include "proto/avatar_codec.h"
+#include "proto/draco_codec.h"
+#include "proto/json_codec.h"
+#include "proto/mesh_codec.h"
+#include "proto/message_file.h"
+#include "services/rpc/channel.h"
+#include "services/rpc/grpc_status.h"
+
+namespace fitbase::cli {
+namespace {
+
+struct CustomerFlags {
+  RemoteFlags remote{.address = "127.0.0.1:7402", .api_key_file = {}, .timeout_seconds = 30};
+  std::string avatar;
+  std::string population = "women";
+  bool draco = false;
+  std::string weights;
+  std::string garment;
+  std::string size = "M";
+  std::string method = "linear";
+  bool raw = false;
+  std::string garments;
+  std::string out;
+};
+
+absl::Status RunProject(const CustomerFlags& flags) {
+  ASSIGN_OR_RETURN(core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
+  v1::ProjectAvatarRequest request;
+  request.set_population(flags.population);
+  ASSIGN_OR_RETURN(*request.mutable_avatar(),
+                   proto::AvatarFromPositions(avatar.positions, flags.draco));
+  auto stub = v1::FitService::NewStub(rpc::OpenChannel(flags.remote.address));
+  ASSIGN_OR_RETURN(std::unique_ptr<grpc::ClientContext> context,
+                   NewCallContext(flags.remote, absl::Seconds(flags.remote.timeout_seconds)));
+  v1::AvatarProjection projection;
+  RETURN_IF_ERROR(rpc::FromGrpcStatus(stub->ProjectAvatar(context.get(), request, &projection)));
+  RETURN_IF_ERROR(core::WriteFileAtomically(flags.out, proto::ToJson(projection.weights())));
+  std::cout << absl::StrFormat("weights on basis %.12s: %d components, reconstruction %.2f mm",
+                               projection.weights().basis_id(),
+                               projection.weights().weights_size(),
+                               projection.weights().mean_error_mm());
+  for (const std::string& reason : projection.reasons()) {
+    std::cout << "\n  out of distribution: " << reason;
+  }
+  std::cout << "\nwrote " << flags.out << "\n";
+  return absl::OkStatus();
+}
+
+absl::StatusOr<v1::AvatarWeights> ReadWeights(const std::string& path) {
+  ASSIGN_OR_RETURN(std::string json, core::ReadFileToString(path));
+  v1::AvatarWeights weights;
+  RETURN_IF_ERROR(proto::ParseJson(json, &weights));
+  return weights;
+}
+
+absl::Status RunFit(const CustomerFlags& flags) {
+  ASSIGN_OR_RETURN(v1::AvatarWeights weights, ReadWeights(flags.weights));
+  CustomerClient client(flags.remote);
+  ASSIGN_OR_RETURN(v1::FittedGarment fitted,
+                   client.Fit(weights, flags.garment, flags.size, flags.method, flags.raw));
+  RETURN_IF_ERROR(client.WriteObj(fitted, flags.out));
+  std::cout << absl::StrFormat(
+      "%s size %s (%s, clothing basis %.12s v%d): %d bytes of positions, %d vertices pushed "
+      "out, %.0f us to fit\nwrote %s\n",
+      fitted.garment_id().substr(0, 12), fitted.size(), fitted.method(),
+      fitted.clothing_basis_id(), fitted.clothing_basis_version(),
+      fitted.positions().ByteSizeLong(), fitted.metrics().vertices_pushed_out(),
+      fitted.metrics().compute_us(), flags.out);
+  return absl::OkStatus();
+}
+
+absl::Status RunOutfit(const CustomerFlags& flags) {
+  ASSIGN_OR_RETURN(v1::AvatarWeights weights, ReadWeights(flags.weights));
+  v1::FitOutfitRequest request;
+  *request.mutable_weights() = weights;
+  request.set_with_metrics(true);
+  request.set_encoding(flags.raw ? v1::POSITIONS_ENCODING_RAW : v1::POSITIONS_ENCODING_DRACO);
+  for (absl::string_view entry : absl::StrSplit(flags.garments, ',', absl::SkipWhitespace())) {
+    const std::vector<std::string> parts = absl::StrSplit(entry, absl::MaxSplits(':', 1));
+    v1::OutfitItem* item = request.add_items();
+    item->set_garment_id(parts[0]);
+    if (parts.size() > 1) item->set_size(parts[1]);
+    item->set_method(flags.method);
+  }
+  CustomerClient client(flags.remote);
+  ASSIGN_OR_RETURN(v1::FitOutfitResponse outfit, client.Outfit(request));
+  std::filesystem::create_directories(flags.out);
+  for (const v1::FittedGarment& fitted : outfit.garments()) {
+    const std::filesystem::path path =
+        std::filesystem::path(flags.out) /
+        absl::StrCat(fitted.garment_id().substr(0, 12), "-", fitted.size(), ".obj");
+    RETURN_IF_ERROR(client.WriteObj(fitted, path));
+    std::cout << "wrote " << path.string() << "\n";
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+void AddCustomerCommands(CLI::App& app, CliContext& context) {
+  CLI::App* customer =
+      app.add_subcommand("customer", "Calls of the fit service, as a shop makes them");
+  customer->require_subcommand(1);
+  auto flags = std::make_shared<CustomerFlags>();
+
+  CLI::App* project = customer->add_subcommand("project", "Project a customer's avatar");
+  AddRemoteOptions(project, flags->remote, "--server");
+  project->add_option("--avatar", flags->avatar, "Avatar OBJ (13,380 vertices, meters)")
+      ->required();
+  project->add_option("--population", flags->population, "The basis's population (women)");
+  project->add_flag("--draco", flags->draco, "Send the avatar Draco-compressed");
+  project->add_option("--out", flags->out, "Weights JSON")->required();
+  project->callback(
+      [&context, flags] { context.action = [flags] { return RunProject(*flags); }; });
+
+  CLI::App* fit = customer->add_subcommand("fit", "Fit one garment size to the weights");
+  AddRemoteOptions(fit, flags->remote, "--server");
+  fit->add_option("--weights", flags->weights, "Weights JSON (customer project)")->required();
+  fit->add_option("--garment", flags->garment, "Garment id")->required();
+  fit->add_option("--size", flags->size, "Size (default M)");
+  fit->add_option("--method", flags->method, "linear, quadratic or paper (default linear)");
+  fit->add_flag("--raw", flags->raw, "Ask for raw float32 positions instead of Draco");
+  fit->add_option("--out", flags->out, "Fitted garment OBJ")->required();
+  fit->callback([&context, flags] { context.action = [flags] { return RunFit(*flags); }; });
+
+  CLI::App* outfit = customer->add_subcommand("outfit", "Fit several garments in one call");
+  AddRemoteOptions(outfit, flags->remote, "--server");
+  outfit->add_option("--weights", flags->weights, "Weights JSON (customer project)")
+      ->required();
+  outfit->add_option("--garments", flags->garments,
+                     "ID[:SIZE],...: a garment without size gets every size")
+      ->required();
+  outfit->add_option("--method", flags->method, "linear, quadratic or paper (default linear)");
+  outfit->add_flag("--raw", flags->raw, "Ask for raw float32 positions instead of Draco");
+  outfit->add_option("--out", flags->out, "Output folder")->required();
+  outfit->callback([&context, flags] { context.action = [flags] { return RunOutfit(*flags); }; });
+}
+
+}  // namespace fitbase::cli

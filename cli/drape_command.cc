@@ -1,0 +1,90 @@
+// fitbase drape: one garment, one size, one body.
+#include <iostream>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "cli/cli_context.h"
+#include "core/file_util.h"
+#include "core/garment_obj.h"
+#include "core/status_macros.h"
+#include "pipeline/avatar_file.h"
+#include "proto/garment_codec.h"
+#include "proto/json_codec.h"
+#include "proto/message_file.h"
+#include "workers/garment_drape.h"
+
+namespace fitbase::cli {
+namespace {
+
+struct DrapeFlags {
+  std::string garment;
+  std::string size = "M";
+  std::string avatar;
+  std::string out;
+  std::string report;
+  std::string method = "drape";
+  workers::DrapeSchedule schedule;
+};
+
+absl::Status RunDrape(const DrapeFlags& flags) {
+  if (flags.method != "drape" && flags.method != "geometric") {
+    return absl::InvalidArgumentError(
+        absl::StrCat("--method is '", flags.method, "'; expected drape or geometric"));
+  }
+  v1::Garment garment;
+  RETURN_IF_ERROR(proto::ReadMessageFile(flags.garment, &garment));
+  ASSIGN_OR_RETURN(core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
+  ASSIGN_OR_RETURN(workers::GarmentFit fit,
+                   flags.method == "drape"
+                       ? workers::DrapeGarment(garment, flags.size, avatar.positions, {},
+                                               flags.schedule)
+                       : workers::GeometricFit(garment, flags.size, avatar.positions));
+  ASSIGN_OR_RETURN(core::GarmentMesh mesh, proto::GarmentTemplateFromProto(garment));
+  mesh.mesh.positions = fit.positions;
+  RETURN_IF_ERROR(core::WriteGarmentObj(flags.out, mesh));
+  const std::string json = proto::ToJson(fit.report);
+  if (!flags.report.empty()) RETURN_IF_ERROR(core::WriteFileAtomically(flags.report, json + "\n"));
+  const v1::DrapeReport& r = fit.report;
+  std::cout << absl::StrFormat(
+      "%s %s size %s (%s): penetration <0 mm %.2f%%, <1 mm %.2f%%; strain mean %.2f%%, p99 "
+      "%.2f%% (stretch %.2f%%, compression %.2f%%), max %.2f%%%s; ease mean %.1f mm; %.2f s\n"
+      "wrote %s\n",
+      flags.method, garment.name(), flags.size, flags.avatar, 100 * r.penetration_below_0mm(),
+      100 * r.penetration_below_1mm(), 100 * r.strain_mean(), 100 * r.strain_p99(),
+      100 * r.stretch_p99(), 100 * r.compression_p99(), 100 * r.strain_max(),
+      r.overstretched() ? " (OVERSTRETCHED: size too small)" : "", r.ease_mean_mm(),
+      r.seconds(), flags.out);
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+void AddDrapeScheduleOptions(CLI::App* command, workers::DrapeSchedule& schedule) {
+  command
+      ->add_option("--homotopy-steps", schedule.homotopy_steps,
+                   absl::StrCat("Drape steps moving the body from the mean avatar (default: ",
+                                schedule.homotopy_steps, ")"))
+      ->check(CLI::Range(0, 10000));
+  command
+      ->add_option("--relax-steps", schedule.relax_steps,
+                   absl::StrCat("Drape steps relaxing on the target body (default: ",
+                                schedule.relax_steps, ")"))
+      ->check(CLI::Range(0, 10000));
+}
+
+void AddDrapeCommand(CLI::App& app, CliContext& context) {
+  auto flags = std::make_shared<DrapeFlags>();
+  CLI::App* drape = app.add_subcommand("drape", "Drape a garment size onto an avatar (physics)");
+  drape->add_option("--garment", flags->garment, "Garment (.fbg)")->required();
+  drape->add_option("--size", flags->size, "Size name (default: M)");
+  drape->add_option("--avatar", flags->avatar, "Body avatar OBJ (meters)")->required();
+  drape->add_option("--out", flags->out, "Draped garment OBJ (template's vertex order)")
+      ->required();
+  drape->add_option("--report", flags->report, "Fit metrics as JSON");
+  AddDrapeScheduleOptions(drape, flags->schedule);
+  drape->add_option("--method", flags->method,
+                    "drape (physics, default) or geometric (the .mhclo binding baseline)");
+  drape->callback([&context, flags] { context.action = [flags] { return RunDrape(*flags); }; });
+}
+
+}  // namespace fitbase::cli

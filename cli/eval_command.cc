@@ -1,0 +1,105 @@
+// fitbase eval: the accuracy table of the fast fit against the physics drape.
+#include <iostream>
+
+#include "absl/strings/str_split.h"
+#include "cli/cli_context.h"
+#include "core/file_util.h"
+#include "core/status_macros.h"
+#include "pipeline/accuracy_eval.h"
+#include "proto/json_codec.h"
+#include "proto/message_file.h"
+
+namespace fitbase::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct EvalFlags {
+  std::string basis;
+  std::vector<std::string> garments;
+  std::string size = "M";
+  int holdout = 20;
+  uint64_t seed = 2;
+  std::string preset;
+  std::string methods = "paper,linear,quadratic,nearest,geometric";
+  double scale = 1.0;
+  int jobs = 2;
+  workers::DrapeSchedule schedule;
+  std::string cache;
+  std::string out;
+};
+
+absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
+  v1::AvatarBasis basis;
+  RETURN_IF_ERROR(proto::ReadMessageFile(flags.basis, &basis));
+  std::vector<v1::Garment> garments(flags.garments.size());
+  for (size_t i = 0; i < garments.size(); ++i) {
+    RETURN_IF_ERROR(proto::ReadMessageFile(flags.garments[i], &garments[i]));
+  }
+  ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(ResolveDataDir(context)));
+  const std::filesystem::path out = flags.out;
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  if (ec) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("cannot create --out ", out.string(), ": ", ec.message()));
+  }
+  pipeline::AccuracyEvalSpec spec;
+  spec.avatar_basis = &basis;
+  for (const v1::Garment& g : garments) spec.garments.push_back(&g);
+  spec.size = flags.size;
+  spec.holdout_count = flags.holdout;
+  spec.holdout_seed = flags.seed;
+  spec.preset = flags.preset;
+  spec.methods = absl::StrSplit(flags.methods, ',', absl::SkipWhitespace());
+  spec.example_scale = flags.scale;
+  spec.schedule = flags.schedule;
+  spec.run = {.cache_dir = flags.cache.empty() ? out / "drapes" : fs::path(flags.cache),
+              .jobs = flags.jobs,
+              .label = "drapes"};
+  spec.clothing_dir = out;
+  ASSIGN_OR_RETURN(v1::AccuracyReport report, pipeline::EvaluateAccuracy(model, spec));
+  const std::string markdown = pipeline::AccuracyReportMarkdown(report);
+  RETURN_IF_ERROR(core::WriteFileAtomically(out / "report.md", markdown));
+  RETURN_IF_ERROR(core::WriteFileAtomically(out / "report.json", proto::ToJson(report) + "\n"));
+  std::cout << markdown << "\nwrote " << (out / "report.md").string() << " and "
+            << (out / "report.json").string() << "\n";
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+void AddEvalCommand(CLI::App& app, CliContext& context) {
+  auto flags = std::make_shared<EvalFlags>();
+  CLI::App* eval = app.add_subcommand(
+      "eval", "Accuracy of the fast fit against the physics drape on held-out avatars");
+  eval->add_option("--basis", flags->basis, "Avatar basis (.fbb)")->required();
+  eval->add_option("--garment", flags->garments, "Garments imported on that basis (.fbg)")
+      ->required()
+      ->delimiter(',');
+  eval->add_option("--size", flags->size, "Size name (default: M)");
+  eval->add_option("--holdout", flags->holdout, "Held-out avatars (default: 20)")
+      ->check(CLI::Range(1, 100000));
+  eval->add_option("--seed", flags->seed,
+                   "Seed of the held-out avatars; use another than the basis's (default: 2)");
+  eval->add_option("--preset", flags->preset,
+                   "Population of the held-out avatars (default: the basis's)");
+  eval->add_option("--methods", flags->methods,
+                   "Comma-separated: paper, linear, quadratic, nearest, geometric (default: all)");
+  eval->add_option("--scale", flags->scale,
+                   "Examples at mean +- scale x sigma_k (default: 1)")
+      ->check(CLI::PositiveNumber);
+  eval->add_option("--jobs", flags->jobs, "Drapes side by side (default: 2)")
+      ->check(CLI::Range(1, 256));
+  AddDrapeScheduleOptions(eval, flags->schedule);
+  eval->add_option("--cache", flags->cache,
+                   "Folder of drape results reused by content key (default: OUT/drapes)");
+  eval->add_option("--out", flags->out,
+                   "Folder for report.md, report.json, the clothing bases and the drape cache")
+      ->required();
+  eval->callback([&context, flags] {
+    context.action = [&context, flags] { return RunEval(context, *flags); };
+  });
+}
+
+}  // namespace fitbase::cli

@@ -1,0 +1,383 @@
+#include "pipeline/accuracy_eval.h"
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "core/clothing_fitter.h"
+#include "core/population_sampler.h"
+#include "core/status_macros.h"
+#include "core/triangle_bvh.h"
+#include "pipeline/avatar_projection.h"
+#include "pipeline/clothing_basis_builder.h"
+#include "proto/avatar_basis_codec.h"
+#include "proto/clothing_basis_codec.h"
+#include "proto/mesh_codec.h"
+#include "proto/message_file.h"
+#include "workers/garment_drape.h"
+
+namespace fitbase::pipeline {
+namespace {
+
+using Positions32 = Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+constexpr double kPenetrationSearch = 0.01;  // m: deeper than any fit's penetration.
+
+// A held-out customer: the real body, its surface for penetration queries, its weights.
+struct Holdout {
+  core::Positions body;
+  core::TriangleBvh surface;
+  Eigen::VectorXf weights;
+};
+
+// One row of the table, accumulated over avatars (and, for the overall table, garments).
+struct RowStats {
+  std::string method;
+  bool cleanup = false;
+  std::vector<float> errors_mm;
+  int64_t below_0mm = 0;
+  int64_t below_1mm = 0;
+  double fit_micros_sum = 0;
+  int fit_micros_count = 0;
+
+  void Add(const core::Positions& fit, const core::Positions& truth,
+           const core::TriangleBvh& body) {
+    for (Eigen::Index v = 0; v < fit.rows(); ++v) {
+      errors_mm.push_back(static_cast<float>(1000 * (fit.row(v) - truth.row(v)).norm()));
+      const core::SurfacePoint p = body.Closest(fit.row(v).transpose(), kPenetrationSearch);
+      below_0mm += p.found && p.signed_distance < 0;
+      below_1mm += p.found && p.signed_distance < 0.001;
+    }
+  }
+
+  v1::MethodAccuracy Finish(double drape_seconds) const {
+    v1::MethodAccuracy row;
+    row.set_method(method);
+    row.set_cleanup(cleanup);
+    std::vector<float> sorted = errors_mm;
+    std::sort(sorted.begin(), sorted.end());
+    double sum = 0;
+    for (float e : sorted) sum += e;
+    const double n = static_cast<double>(std::max<size_t>(sorted.size(), 1));
+    row.set_error_mean_mm(sum / n);
+    if (!sorted.empty()) {
+      row.set_error_p95_mm(sorted[std::min(
+          sorted.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(sorted.size())))]);
+      row.set_error_max_mm(sorted.back());
+    }
+    row.set_penetration_below_0mm(static_cast<double>(below_0mm) / n);
+    row.set_penetration_below_1mm(static_cast<double>(below_1mm) / n);
+    const double micros = fit_micros_count ? fit_micros_sum / fit_micros_count : 0;
+    row.set_fit_microseconds(micros);
+    row.set_speedup(micros > 0 ? drape_seconds * 1e6 / micros : 0);
+    return row;
+  }
+};
+
+// Mean wall time of `call` in microseconds: repeated until 20 ms have passed, so a fit of a
+// few microseconds is not lost in the clock's resolution.
+template <typename Call>
+double MicrosPerCall(Call&& call) {
+  call();
+  const auto start = std::chrono::steady_clock::now();
+  int calls = 0;
+  std::chrono::duration<double, std::micro> elapsed{0};
+  do {
+    call();
+    ++calls;
+    elapsed = std::chrono::steady_clock::now() - start;
+  } while (elapsed.count() < 20000 && calls < 10000);
+  return elapsed.count() / calls;
+}
+
+core::Positions FromFlat(const Eigen::VectorXf& flat) {
+  return Eigen::Map<const Positions32>(flat.data(), flat.size() / 3, 3).cast<double>();
+}
+
+absl::Status CheckMethods(const std::vector<std::string>& methods) {
+  for (const std::string& m : methods) {
+    if (m != "nearest" && m != "geometric") RETURN_IF_ERROR(core::ParseClothingMethod(m).status());
+  }
+  if (methods.empty()) return absl::InvalidArgumentError("no methods to evaluate");
+  return absl::OkStatus();
+}
+
+bool Wants(const std::vector<std::string>& methods, absl::string_view method) {
+  return std::find(methods.begin(), methods.end(), method) != methods.end();
+}
+
+absl::StatusOr<std::vector<Holdout>> MakeHoldouts(const core::BodyModel& body_model,
+                                                  const LoadedAvatarBasis& basis,
+                                                  const core::Triangles& triangles,
+                                                  const AccuracyEvalSpec& spec,
+                                                  core::PopulationPreset preset,
+                                                  double* error_mean_mm) {
+  std::vector<Holdout> holdouts;
+  double error_sum = 0;
+  for (int i = 0; i < spec.holdout_count; ++i) {
+    ASSIGN_OR_RETURN(core::Mesh body, body_model.BuildBody(core::SampleBodyParams(
+                                          preset, spec.holdout_seed, static_cast<uint64_t>(i))));
+    ASSIGN_OR_RETURN(v1::AvatarWeights weights, ProjectAvatar(basis, body));
+    error_sum += weights.mean_error_mm();
+    ASSIGN_OR_RETURN(core::TriangleBvh surface,
+                     core::TriangleBvh::Build(body.positions, triangles));
+    holdouts.push_back(
+        {body.positions, std::move(surface),
+         Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
+             .cast<float>()});
+  }
+  *error_mean_mm = spec.holdout_count ? error_sum / spec.holdout_count : 0;
+  return holdouts;
+}
+
+// The rows of one garment, in table order: each model without and with clean-up, then the
+// baselines.
+std::vector<RowStats> EmptyRows(const std::vector<std::string>& methods) {
+  std::vector<RowStats> rows;
+  for (const char* m : {"paper", "linear", "quadratic"}) {
+    if (!Wants(methods, m)) continue;
+    for (bool cleanup : {false, true}) {
+      rows.emplace_back();
+      rows.back().method = m;
+      rows.back().cleanup = cleanup;
+    }
+  }
+  for (const char* m : {"nearest", "geometric"}) {
+    if (!Wants(methods, m)) continue;
+    rows.emplace_back();
+    rows.back().method = m;
+  }
+  return rows;
+}
+
+struct GarmentDrapes {
+  ClothingBuildSpec spec;
+  ClothingPlan plan;
+  std::vector<workers::DrapeTask> truth;
+};
+
+// Fits every held-out avatar with every method of one garment and fills its rows.
+absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& g,
+                             const std::vector<v1::DrapeResult>& examples,
+                             const std::vector<v1::DrapeResult>& truths,
+                             const std::vector<Holdout>& holdouts, std::vector<RowStats>& rows,
+                             v1::GarmentAccuracy& out) {
+  const v1::Garment& garment = *g.spec.garment;
+  const int64_t vertex_count = garment.template_mesh().vertex_count();
+  std::optional<core::ClothingFitter> fitter;
+  for (RowStats& row : rows) {
+    if (row.method == "nearest" || row.method == "geometric") continue;
+    // Rows come in pairs (without, then with clean-up) that share one clothing basis.
+    if (!row.cleanup) {
+      ASSIGN_OR_RETURN(core::ClothingMethod method, core::ParseClothingMethod(row.method));
+      ASSIGN_OR_RETURN(v1::ClothingBasis basis,
+                       AssembleClothingBasis(g.spec, g.plan, method, examples));
+      if (method == core::ClothingMethod::kLinear) out.set_clothing_basis_id(basis.id());
+      if (!spec.clothing_dir.empty()) {
+        RETURN_IF_ERROR(proto::WriteMessageFile(
+            spec.clothing_dir /
+                absl::StrCat(garment.name(), "-", spec.size, "-", row.method, ".fbc"),
+            basis));
+      }
+      ASSIGN_OR_RETURN(fitter, proto::ClothingFitterFromProto(basis));
+    }
+    core::FitScratch scratch;
+    Eigen::VectorXf fit;
+    for (size_t h = 0; h < holdouts.size(); ++h) {
+      RETURN_IF_ERROR(fitter->Fit(holdouts[h].weights, row.cleanup, scratch, fit).status());
+      ASSIGN_OR_RETURN(core::Positions truth,
+                       workers::DrapeResultPositions(truths[h], vertex_count));
+      row.Add(FromFlat(fit), truth, holdouts[h].surface);
+    }
+    row.fit_micros_sum += MicrosPerCall(
+        [&] { (void)fitter->Fit(holdouts[0].weights, row.cleanup, scratch, fit); });
+    ++row.fit_micros_count;
+  }
+  std::vector<Eigen::VectorXf> example_weights;
+  for (int e = 0; e < g.plan.design.example_count(); ++e) {
+    example_weights.push_back(g.plan.design.Weights(e).cast<float>());
+  }
+  for (RowStats& row : rows) {
+    if (row.method == "nearest") {
+      auto nearest = [&](const Eigen::VectorXf& w) {
+        size_t best = 0;
+        for (size_t e = 1; e < example_weights.size(); ++e) {
+          if ((example_weights[e] - w).squaredNorm() < (example_weights[best] - w).squaredNorm()) {
+            best = e;
+          }
+        }
+        return best;
+      };
+      Eigen::VectorXf fit;
+      for (size_t h = 0; h < holdouts.size(); ++h) {
+        const v1::DrapeResult& chosen = examples[nearest(holdouts[h].weights)];
+        ASSIGN_OR_RETURN(core::Positions positions,
+                         workers::DrapeResultPositions(chosen, vertex_count));
+        ASSIGN_OR_RETURN(core::Positions truth,
+                         workers::DrapeResultPositions(truths[h], vertex_count));
+        row.Add(positions, truth, holdouts[h].surface);
+      }
+      row.fit_micros_sum += MicrosPerCall([&] {
+        const v1::DrapeResult& chosen = examples[nearest(holdouts[0].weights)];
+        fit = Eigen::Map<const Eigen::VectorXf>(chosen.positions().data(), chosen.positions_size());
+      });
+      ++row.fit_micros_count;
+    } else if (row.method == "geometric") {
+      for (size_t h = 0; h < holdouts.size(); ++h) {
+        const auto start = std::chrono::steady_clock::now();
+        ASSIGN_OR_RETURN(workers::GarmentFit fit,
+                         workers::GeometricFit(garment, spec.size, holdouts[h].body));
+        row.fit_micros_sum += std::chrono::duration<double, std::micro>(
+                                  std::chrono::steady_clock::now() - start).count();
+        ++row.fit_micros_count;
+        ASSIGN_OR_RETURN(core::Positions truth,
+                         workers::DrapeResultPositions(truths[h], vertex_count));
+        row.Add(fit.positions, truth, holdouts[h].surface);
+      }
+    }
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_model,
+                                                    const AccuracyEvalSpec& spec) {
+  RETURN_IF_ERROR(CheckMethods(spec.methods));
+  if (spec.holdout_count < 1) return absl::InvalidArgumentError("need at least 1 held-out avatar");
+  const v1::AvatarBasis& basis_message = *spec.avatar_basis;
+  const std::string preset_name =
+      spec.preset.empty() ? basis_message.population().preset() : spec.preset;
+  if (preset_name.empty()) {
+    return absl::InvalidArgumentError(
+        "the avatar basis has no population preset; name the held-out avatars' preset");
+  }
+  ASSIGN_OR_RETURN(core::PopulationPreset preset, core::ParsePopulationPreset(preset_name));
+  LoadedAvatarBasis basis{basis_message, {}};
+  ASSIGN_OR_RETURN(basis.pca, proto::PcaBasisFromProto(basis_message));
+  ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis_message.mean()));
+  const core::Triangles triangles = core::Triangulate(mean.faces);
+
+  v1::AccuracyReport report;
+  report.set_avatar_basis_id(basis_message.id());
+  report.set_component_count(basis_message.component_count());
+  report.set_size(spec.size);
+  report.set_preset(preset_name);
+  report.set_holdout_seed(spec.holdout_seed);
+  report.set_holdout_count(static_cast<uint32_t>(spec.holdout_count));
+  report.set_example_scale(spec.example_scale);
+  report.set_simulator(workers::SimulatorDescription(spec.settings, spec.schedule));
+  double avatar_error = 0;
+  ASSIGN_OR_RETURN(std::vector<Holdout> holdouts,
+                   MakeHoldouts(body_model, basis, triangles, spec, preset, &avatar_error));
+  report.set_avatar_error_mean_mm(avatar_error);
+
+  std::vector<GarmentDrapes> garments;
+  std::vector<const workers::DrapeTask*> tasks;
+  for (const v1::Garment* garment : spec.garments) {
+    GarmentDrapes g;
+    g.spec = {.avatar_basis = &basis_message, .garment = garment, .size = spec.size,
+              .example_scale = spec.example_scale, .settings = spec.settings,
+              .schedule = spec.schedule};
+    ASSIGN_OR_RETURN(g.plan, PlanClothingBasis(g.spec));
+    for (const Holdout& h : holdouts) {
+      g.truth.push_back(workers::MakeDrapeTask(*garment, spec.size, h.body, spec.settings,
+                                               spec.schedule));
+    }
+    garments.push_back(std::move(g));
+  }
+  for (const GarmentDrapes& g : garments) {
+    for (const workers::DrapeTask& t : g.plan.tasks) tasks.push_back(&t);
+    for (const workers::DrapeTask& t : g.truth) tasks.push_back(&t);
+  }
+  ASSIGN_OR_RETURN(std::vector<v1::DrapeResult> results, RunDrapeTasks(tasks, spec.run));
+
+  std::vector<RowStats> overall = EmptyRows(spec.methods);
+  double overall_drape_seconds = 0;
+  size_t offset = 0;
+  for (const GarmentDrapes& g : garments) {
+    const auto begin = results.begin() + static_cast<std::ptrdiff_t>(offset);
+    const std::vector<v1::DrapeResult> examples(
+        begin, begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size()));
+    const std::vector<v1::DrapeResult> truths(
+        begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size()),
+        begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size() + g.truth.size()));
+    offset += g.plan.tasks.size() + g.truth.size();
+
+    v1::GarmentAccuracy* out = report.add_garments();
+    out->set_garment_id(g.spec.garment->id());
+    out->set_garment_name(g.spec.garment->name());
+    out->set_vertex_count(g.spec.garment->template_mesh().vertex_count());
+    double seconds = 0;
+    uint32_t overstretched = 0;
+    for (const v1::DrapeResult& t : truths) {
+      seconds += t.report().seconds();
+      overstretched += t.report().overstretched();
+    }
+    seconds /= static_cast<double>(truths.size());
+    out->set_drape_seconds_mean(seconds);
+    out->set_overstretched_drapes(overstretched);
+    overall_drape_seconds += seconds / static_cast<double>(garments.size());
+
+    std::vector<RowStats> rows = EmptyRows(spec.methods);
+    RETURN_IF_ERROR(EvaluateGarment(spec, g, examples, truths, holdouts, rows, *out));
+    for (size_t r = 0; r < rows.size(); ++r) {
+      *out->add_methods() = rows[r].Finish(seconds);
+      overall[r].errors_mm.insert(overall[r].errors_mm.end(), rows[r].errors_mm.begin(),
+                                  rows[r].errors_mm.end());
+      overall[r].below_0mm += rows[r].below_0mm;
+      overall[r].below_1mm += rows[r].below_1mm;
+      overall[r].fit_micros_sum += rows[r].fit_micros_sum / rows[r].fit_micros_count;
+      ++overall[r].fit_micros_count;
+    }
+  }
+  for (const RowStats& row : overall) *report.add_overall() = row.Finish(overall_drape_seconds);
+  return report;
+}
+
+namespace {
+
+void AppendTable(const google::protobuf::RepeatedPtrField<v1::MethodAccuracy>& rows,
+                 std::string& md) {
+  absl::StrAppend(&md,
+                  "| method | clean-up | mean mm | p95 mm | max mm | pen. < 0 mm | pen. < 1 mm | "
+                  "fit us | speed-up |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const v1::MethodAccuracy& r : rows) {
+    absl::StrAppend(&md, absl::StrFormat("| %s | %s | %.2f | %.2f | %.1f | %.3f%% | %.3f%% | "
+                                         "%.1f | %.0fx |\n",
+                                         r.method(), r.cleanup() ? "yes" : "no",
+                                         r.error_mean_mm(), r.error_p95_mm(), r.error_max_mm(),
+                                         100 * r.penetration_below_0mm(),
+                                         100 * r.penetration_below_1mm(), r.fit_microseconds(),
+                                         r.speedup()));
+  }
+}
+
+}  // namespace
+
+std::string AccuracyReportMarkdown(const v1::AccuracyReport& report) {
+  std::string md = absl::StrFormat(
+      "# Fast fit against the physics drape\n\nAvatar basis `%s` (%d components), size %s, "
+      "%d held-out `%s` avatars (seed %d, projection error %.2f mm mean), examples at "
+      "mean +- %.2g sigma.\nErrors are per-vertex distances to the drape of the same body; "
+      "penetration is measured against the real held-out body.\n",
+      report.avatar_basis_id().substr(0, 12), report.component_count(), report.size(),
+      report.holdout_count(), report.preset(), report.holdout_seed(),
+      report.avatar_error_mean_mm(), report.example_scale());
+  for (const v1::GarmentAccuracy& g : report.garments()) {
+    absl::StrAppend(&md, absl::StrFormat(
+                             "\n## %s (%d vertices)\n\nDrape: %.2f s mean; %d of %d held-out "
+                             "drapes flagged overstretched.\n\n",
+                             g.garment_name(), g.vertex_count(), g.drape_seconds_mean(),
+                             g.overstretched_drapes(), report.holdout_count()));
+    AppendTable(g.methods(), md);
+  }
+  absl::StrAppend(&md, absl::StrFormat("\n## All %d garments\n\n", report.garments_size()));
+  AppendTable(report.overall(), md);
+  return md;
+}
+
+}  // namespace fitbase::pipeline

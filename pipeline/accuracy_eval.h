@@ -1,0 +1,49 @@
+#ifndef FITBASE_PIPELINE_ACCURACY_EVAL_H_
+#define FITBASE_PIPELINE_ACCURACY_EVAL_H_
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "core/body_model.h"
+#include "fitbase/v1/accuracy_report.pb.h"
+#include "fitbase/v1/avatar_basis.pb.h"
+#include "fitbase/v1/garment.pb.h"
+#include "pipeline/drape_runner.h"
+#include "workers/cloth_solver.h"
+#include "workers/drape.h"
+
+namespace fitbase::pipeline {
+
+struct AccuracyEvalSpec {
+  const v1::AvatarBasis* avatar_basis = nullptr;
+  std::vector<const v1::Garment*> garments;  // Each imported on avatar_basis.
+  std::string size = "M";
+  int holdout_count = 20;
+  uint64_t holdout_seed = 2;
+  std::string preset;  // Empty: the basis's own population preset.
+  // Any of paper, linear, quadratic, nearest, geometric.
+  std::vector<std::string> methods = {"paper", "linear", "quadratic", "nearest", "geometric"};
+  double example_scale = 1.0;
+  workers::ClothSettings settings;
+  workers::DrapeSchedule schedule;
+  DrapeRunOptions run;
+  // Where the clothing bases are written as <garment>-<size>-<method>.fbc (empty: nowhere).
+  std::filesystem::path clothing_dir;
+};
+
+// Drapes the held-out avatars (ground truth) and every garment's example avatars, builds the
+// clothing bases, fits every held-out avatar with every method, and measures the per-vertex
+// error against the drape, the penetration of the real held-out body, and the fit time.
+// Errors: unknown method or preset, a garment of another basis, a failed drape.
+absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_model,
+                                                    const AccuracyEvalSpec& spec);
+
+// The report as a Markdown table per garment and overall.
+std::string AccuracyReportMarkdown(const v1::AccuracyReport& report);
+
+}  // namespace fitbase::pipeline
+
+#endif  // FITBASE_PIPELINE_ACCURACY_EVAL_H_

@@ -1,0 +1,34 @@
+#include "pipeline/avatar_file.h"
+
+#include "absl/strings/str_cat.h"
+#include "core/body_model.h"
+#include "core/obj_io.h"
+#include "core/status_macros.h"
+
+namespace fitbase::pipeline {
+namespace {
+
+// Adult heights, meters, with a wide margin: anything outside is a unit or file mix-up.
+constexpr double kMinBodyHeight = 1.0;
+constexpr double kMaxBodyHeight = 2.6;
+
+}  // namespace
+
+absl::StatusOr<core::Mesh> ReadAvatarObj(const std::filesystem::path& path) {
+  ASSIGN_OR_RETURN(core::Mesh mesh, core::ReadObj(path));
+  if (mesh.vertex_count() != core::kBodyVertexCount) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        path.string(), " has ", mesh.vertex_count(), " vertices; a ", core::kBodyTopologyId,
+        " avatar has ", core::kBodyVertexCount));
+  }
+  const double height = mesh.positions.col(1).maxCoeff() - mesh.positions.col(1).minCoeff();
+  if (height < kMinBodyHeight || height > kMaxBodyHeight) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        path.string(), " is ", height, " units tall; avatars are in meters (expected ",
+        kMinBodyHeight, " to ", kMaxBodyHeight, ")"));
+  }
+  mesh.topology_id = std::string(core::kBodyTopologyId);
+  return mesh;
+}
+
+}  // namespace fitbase::pipeline

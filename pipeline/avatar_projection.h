@@ -1,0 +1,29 @@
+#ifndef FITBASE_PIPELINE_AVATAR_PROJECTION_H_
+#define FITBASE_PIPELINE_AVATAR_PROJECTION_H_
+
+#include <filesystem>
+
+#include "absl/status/statusor.h"
+#include "core/mesh.h"
+#include "core/pca_basis.h"
+#include "fitbase/v1/avatar.pb.h"
+#include "fitbase/v1/avatar_basis.pb.h"
+
+namespace fitbase::pipeline {
+
+// An avatar basis as stored and as the math uses it.
+struct LoadedAvatarBasis {
+  v1::AvatarBasis message;
+  core::PcaBasis pca;
+};
+
+absl::StatusOr<LoadedAvatarBasis> LoadAvatarBasis(const std::filesystem::path& path);
+
+// The avatar's weights on the basis (m) with its reconstruction error (mm). The avatar must
+// have the basis's vertex count (InvalidArgument naming both otherwise).
+absl::StatusOr<v1::AvatarWeights> ProjectAvatar(const LoadedAvatarBasis& basis,
+                                                const core::Mesh& avatar);
+
+}  // namespace fitbase::pipeline
+
+#endif  // FITBASE_PIPELINE_AVATAR_PROJECTION_H_

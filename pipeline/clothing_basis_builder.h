@@ -1,0 +1,52 @@
+#ifndef FITBASE_PIPELINE_CLOTHING_BASIS_BUILDER_H_
+#define FITBASE_PIPELINE_CLOTHING_BASIS_BUILDER_H_
+
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "core/clothing_model.h"
+#include "core/pca_basis.h"
+#include "fitbase/v1/avatar_basis.pb.h"
+#include "fitbase/v1/clothing_basis.pb.h"
+#include "fitbase/v1/garment.pb.h"
+#include "workers/drape_task.h"
+
+namespace fitbase::pipeline {
+
+// What a clothing basis is built from. The pointers must outlive the plan and its tasks.
+struct ClothingBuildSpec {
+  const v1::AvatarBasis* avatar_basis = nullptr;
+  const v1::Garment* garment = nullptr;
+  std::string size;
+  double example_scale = 1.0;  // s: examples at mu +- s sigma_k phi_k.
+  // Anchors per garment vertex of the fit-time collision clean-up (see BodyCorrespondence).
+  int cleanup_anchors = 4;
+  workers::ClothSettings settings;
+  workers::DrapeSchedule schedule;
+};
+
+// The example drapes of one garment size: the 2N + 1 example avatars of the design, each a
+// content-addressed drape task. Every method builds from the same tasks, so one set of drapes
+// serves them all, and the distributed build runs exactly these.
+struct ClothingPlan {
+  core::PcaBasis avatar;
+  core::ExampleDesign design;
+  std::vector<workers::DrapeTask> tasks;  // In ExampleDesign order.
+};
+
+// Errors: a garment imported on another avatar basis (FAILED_PRECONDITION naming both ids),
+// an unknown size (NOT_FOUND listing the garment's sizes), a bad basis or scale.
+absl::StatusOr<ClothingPlan> PlanClothingBasis(const ClothingBuildSpec& spec);
+
+// The clothing basis of `method` from the plan's drape results (results[i] for tasks[i]),
+// with the fit-time body correspondence and the garment's topology. Its id hashes the garment,
+// size, avatar basis, method and every drape key, so equal inputs give the same bytes.
+// InvalidArgument when a result's key or vertex count does not match its task.
+absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
+    const ClothingBuildSpec& spec, const ClothingPlan& plan, core::ClothingMethod method,
+    const std::vector<v1::DrapeResult>& results);
+
+}  // namespace fitbase::pipeline
+
+#endif  // FITBASE_PIPELINE_CLOTHING_BASIS_BUILDER_H_

@@ -1,0 +1,46 @@
+#ifndef FITBASE_PIPELINE_POPULATION_FOLDER_H_
+#define FITBASE_PIPELINE_POPULATION_FOLDER_H_
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "Eigen/Core"
+#include "absl/status/statusor.h"
+#include "core/body_model.h"
+#include "core/population_sampler.h"
+#include "fitbase/v1/avatar_basis.pb.h"
+
+namespace fitbase::pipeline {
+
+// A population folder holds:
+//   population.json  the PopulationProvenance (preset, seed, count), without params;
+//   params.jsonl     one AvatarParams JSON per avatar, in order;
+//   avatar-NNNNN.obj one body avatar per line of params.jsonl (meters).
+// A folder of OBJ avatars from elsewhere (no population.json) is read in file-name order.
+
+// Samples `count` avatars of (preset, seed), builds their bodies and writes the folder,
+// showing progress on stderr.
+absl::Status WritePopulationFolder(const core::BodyModel& model, core::PopulationPreset preset,
+                                   uint64_t seed, int64_t count,
+                                   const std::filesystem::path& dir);
+
+struct Population {
+  v1::PopulationProvenance provenance;  // With params when params.jsonl exists.
+  std::vector<std::filesystem::path> avatar_files;
+  Eigen::MatrixXd samples;  // 3V x K, flattened avatars (xyz interleaved), meters.
+  core::PolygonFaces faces;
+};
+
+// The population WritePopulationFolder would write, in memory and without rounding the
+// avatars to the folder's OBJ precision (so its basis id differs from the folder's).
+absl::StatusOr<Population> SamplePopulation(const core::BodyModel& model,
+                                            core::PopulationPreset preset, uint64_t seed,
+                                            int64_t count);
+
+// Reads and validates every avatar of the folder (vertex counts, finiteness, units).
+absl::StatusOr<Population> ReadPopulationFolder(const std::filesystem::path& dir);
+
+}  // namespace fitbase::pipeline
+
+#endif  // FITBASE_PIPELINE_POPULATION_FOLDER_H_

@@ -1,0 +1,242 @@
+#include "services/fit/fit_service.h"
+
+#include <cmath>
+#include <span>
+
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
+#include "absl/time/clock.h"
+#include "core/clothing_model.h"
+#include "core/status_macros.h"
+#include "proto/avatar_codec.h"
+#include "proto/draco_codec.h"
+#include "services/rpc/call_auth.h"
+#include "services/rpc/grpc_status.h"
+
+namespace fitbase::fit {
+namespace {
+
+absl::StatusOr<rpc::Principal> AdmitCustomer(const grpc::CallbackServerContext& context,
+                                        const rpc::ApiKeyRegistry& keys) {
+  ASSIGN_OR_RETURN(rpc::Principal principal, rpc::AuthenticateCall(context, keys));
+  RETURN_IF_ERROR(rpc::RequireRole(principal, {rpc::Role::kCustomer}, "fit garments"));
+  return principal;
+}
+
+absl::Status CheckAlive(const grpc::CallbackServerContext& context) {
+  if (context.IsCancelled()) return absl::CancelledError("the call was cancelled");
+  if (absl::Now() > absl::FromChrono(context.deadline())) {
+    return absl::DeadlineExceededError("the call's deadline passed");
+  }
+  return absl::OkStatus();
+}
+
+grpc::ServerUnaryReactor* Answer(grpc::CallbackServerContext* context,
+                                 const absl::Status& status) {
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  reactor->Finish(rpc::ToGrpcStatus(status));
+  return reactor;
+}
+
+// One garment size fitted to the weights, encoded as asked.
+absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view tenant,
+                                         const v1::AvatarWeights& weights,
+                                         const ServedGarment& garment,
+                                         absl::string_view garment_id, absl::string_view size,
+                                         absl::string_view method_name,
+                                         v1::PositionsEncoding encoding, bool with_metrics,
+                                         bool cleanup) {
+  const std::string method = method_name.empty() ? "linear" : std::string(method_name);
+  RETURN_IF_ERROR(core::ParseClothingMethod(method).status());
+  const auto& sizes = garment.topology.sizes();
+  if (std::find(sizes.begin(), sizes.end(), size) == sizes.end()) {
+    return absl::NotFoundError(absl::StrCat("garment ", garment_id, " has no size '", size,
+                                            "'; it has ", absl::StrJoin(sizes, ",")));
+  }
+  absl::StatusOr<std::shared_ptr<const ServedClothing>> found =
+      catalog.Clothing({std::string(tenant), std::string(garment_id), std::string(size),
+                        garment.avatar_basis_id, method});
+  if (absl::IsNotFound(found.status())) {
+    return absl::NotFoundError(absl::StrCat("garment ", garment_id, " size ", size,
+                                            " has no published ", method,
+                                            " clothing basis; build it first"));
+  }
+  if (!found.ok()) return found.status();
+  const std::shared_ptr<const ServedClothing> clothing = *std::move(found);
+  const int components = clothing->fitter.model().component_count;
+  if (weights.weights_size() != components) {
+    return absl::InvalidArgumentError(absl::StrCat("the weights have ", weights.weights_size(),
+                                                   " components; avatar basis ",
+                                                   weights.basis_id(), " has ", components));
+  }
+  Eigen::VectorXf w(components);
+  for (int k = 0; k < components; ++k) {
+    if (!std::isfinite(weights.weights(k))) {
+      return absl::InvalidArgumentError(absl::StrCat("weight ", k, " is not finite"));
+    }
+    w(k) = static_cast<float>(weights.weights(k));
+  }
+  thread_local core::FitScratch scratch;
+  thread_local Eigen::VectorXf positions;
+  const absl::Time start = absl::Now();
+  ASSIGN_OR_RETURN(int64_t pushed, clothing->fitter.Fit(w, cleanup, scratch, positions));
+  const absl::Duration compute = absl::Now() - start;
+
+  v1::FittedGarment fitted;
+  fitted.set_garment_id(std::string(garment_id));
+  fitted.set_size(std::string(size));
+  fitted.set_method(method);
+  fitted.set_clothing_basis_id(clothing->content_id);
+  fitted.set_clothing_basis_version(clothing->version);
+  const std::span<const float> xyz(positions.data(), static_cast<size_t>(positions.size()));
+  if (encoding == v1::POSITIONS_ENCODING_RAW) {
+    *fitted.mutable_positions() = proto::EncodeRawPositions(xyz);
+  } else {
+    // In the topology's wire order: spatial neighbours in sequence, which Draco's sequential
+    // coder predicts well, while the garment's own order (often coarse to fine) jumps.
+    thread_local std::vector<float> wire;
+    const auto& order = garment.topology.wire_order();
+    wire.resize(xyz.size());
+    for (int i = 0; i < order.size(); ++i) {
+      for (int c = 0; c < 3; ++c) wire[3 * i + c] = xyz[3 * order[i] + c];
+    }
+    ASSIGN_OR_RETURN(*fitted.mutable_positions(), proto::EncodeDracoPositions(wire));
+  }
+  if (with_metrics) {
+    fitted.mutable_metrics()->set_vertices_pushed_out(static_cast<uint32_t>(pushed));
+    fitted.mutable_metrics()->set_compute_us(absl::ToDoubleMicroseconds(compute));
+  }
+  return fitted;
+}
+
+// The garment, and a refusal of weights of another avatar basis than the garment's (they
+// would be silently mixed otherwise).
+absl::StatusOr<std::shared_ptr<const ServedGarment>> GarmentForWeights(
+    FitCatalog& catalog, absl::string_view tenant, absl::string_view garment_id,
+    const v1::AvatarWeights& weights) {
+  if (garment_id.empty()) return absl::InvalidArgumentError("garment_id is empty");
+  ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
+                   catalog.Garment(tenant, garment_id));
+  if (weights.basis_id() != garment->avatar_basis_id) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "the weights are of avatar basis '", weights.basis_id(), "'; garment ", garment_id,
+        " is served on avatar basis ", garment->avatar_basis_id,
+        ": project the avatar again (ProjectAvatar)"));
+  }
+  return garment;
+}
+
+}  // namespace
+
+grpc::ServerUnaryReactor* FitService::ProjectAvatar(grpc::CallbackServerContext* context,
+                                                    const v1::ProjectAvatarRequest* request,
+                                                    v1::AvatarProjection* response) {
+  absl::Status status = [&]() -> absl::Status {
+    ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
+    if (request->population().empty()) return absl::InvalidArgumentError("population is empty");
+    ASSIGN_OR_RETURN(std::shared_ptr<const pipeline::LoadedAvatarBasis> basis,
+                     catalog_->CurrentAvatarBasis(principal.tenant, request->population()));
+    ASSIGN_OR_RETURN(core::Positions positions, proto::AvatarPositions(request->avatar()));
+    core::Mesh avatar;
+    avatar.positions = std::move(positions);
+    ASSIGN_OR_RETURN(*response->mutable_weights(),
+                     pipeline::ProjectAvatar(*basis, avatar));
+    const v1::AvatarWeights& weights = response->weights();
+    const double training = basis->pca.training_error.mean_mm;
+    if (weights.mean_error_mm() > options_.ood_error_ratio * training) {
+      response->add_reasons(absl::StrFormat(
+          "reconstruction error %.2f mm is above %.1fx the population's %.2f mm",
+          weights.mean_error_mm(), options_.ood_error_ratio, training));
+    }
+    for (int k = 0; k < weights.weights_size(); ++k) {
+      const double sigmas = std::abs(weights.weights(k)) / std::sqrt(basis->pca.variances(k));
+      if (sigmas > options_.ood_sigmas) {
+        response->add_reasons(
+            absl::StrFormat("component %d lies %.1f sigma from the mean", k, sigmas));
+      }
+    }
+    response->set_out_of_distribution(response->reasons_size() > 0);
+    return absl::OkStatus();
+  }();
+  return Answer(context, status);
+}
+
+grpc::ServerUnaryReactor* FitService::FitGarment(grpc::CallbackServerContext* context,
+                                                 const v1::FitGarmentRequest* request,
+                                                 v1::FittedGarment* response) {
+  absl::Status status = [&]() -> absl::Status {
+    ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
+    ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
+                     GarmentForWeights(*catalog_, principal.tenant, request->garment_id(),
+                                       request->weights()));
+    RETURN_IF_ERROR(CheckAlive(*context));
+    ASSIGN_OR_RETURN(*response,
+                     FitOne(*catalog_, principal.tenant, request->weights(), *garment,
+                            request->garment_id(), request->size(), request->method(),
+                            request->encoding(), request->with_metrics(),
+                            !request->skip_cleanup()));
+    return absl::OkStatus();
+  }();
+  return Answer(context, status);
+}
+
+grpc::ServerUnaryReactor* FitService::FitOutfit(grpc::CallbackServerContext* context,
+                                                const v1::FitOutfitRequest* request,
+                                                v1::FitOutfitResponse* response) {
+  absl::Status status = [&]() -> absl::Status {
+    ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
+    if (request->items().empty()) return absl::InvalidArgumentError("the outfit is empty");
+    if (request->items_size() > options_.max_outfit_items) {
+      return absl::ResourceExhaustedError(absl::StrCat(
+          "the outfit has ", request->items_size(), " items; at most ",
+          options_.max_outfit_items));
+    }
+    for (const v1::OutfitItem& item : request->items()) {
+      ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
+                       GarmentForWeights(*catalog_, principal.tenant, item.garment_id(),
+                                         request->weights()));
+      std::vector<std::string> sizes;
+      if (item.size().empty()) {
+        sizes.assign(garment->topology.sizes().begin(), garment->topology.sizes().end());
+      } else {
+        sizes.push_back(item.size());
+      }
+      int fitted = 0;
+      for (const std::string& size : sizes) {
+        RETURN_IF_ERROR(CheckAlive(*context));
+        absl::StatusOr<v1::FittedGarment> one =
+            FitOne(*catalog_, principal.tenant, request->weights(), *garment, item.garment_id(),
+                   size, item.method(), request->encoding(), request->with_metrics(),
+                   /*cleanup=*/true);
+        // Every size: only those with a published clothing basis.
+        if (item.size().empty() && absl::IsNotFound(one.status())) continue;
+        if (!one.ok()) return one.status();
+        *response->add_garments() = *std::move(one);
+        ++fitted;
+      }
+      if (fitted == 0) {
+        return absl::NotFoundError(absl::StrCat("garment ", item.garment_id(),
+                                                " has no published clothing basis"));
+      }
+    }
+    return absl::OkStatus();
+  }();
+  return Answer(context, status);
+}
+
+grpc::ServerUnaryReactor* FitService::GetGarmentTopology(
+    grpc::CallbackServerContext* context, const v1::GetGarmentTopologyRequest* request,
+    v1::GarmentTopology* response) {
+  absl::Status status = [&]() -> absl::Status {
+    ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
+    if (request->garment_id().empty()) return absl::InvalidArgumentError("garment_id is empty");
+    ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
+                     catalog_->Garment(principal.tenant, request->garment_id()));
+    *response = garment->topology;
+    return absl::OkStatus();
+  }();
+  return Answer(context, status);
+}
+
+}  // namespace fitbase::fit
