@@ -5,6 +5,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "cli/cli_context.h"
+#include "core/body_measurements.h"
 #include "core/body_model.h"
 #include "core/file_util.h"
 #include "core/obj_io.h"
@@ -34,6 +35,11 @@ struct ExportFlags {
 struct ImportFlags {
   std::string in;
   std::string out;
+};
+
+struct MeasureFlags {
+  std::string obj;
+  bool json = false;
 };
 
 // JSON_OR_FILE: inline JSON starts with '{'; anything else is a file path.
@@ -104,6 +110,49 @@ absl::Status RunImport(const CliContext& context, const ImportFlags& flags) {
   return absl::OkStatus();
 }
 
+// Centimetres and kilograms, as a person reads and types them; meters inside.
+double Displayed(core::Measurement measurement, double value) {
+  return core::IsMass(measurement) ? value : 100 * value;
+}
+
+absl::Status RunMeasure(const MeasureFlags& flags) {
+  ASSIGN_OR_RETURN(core::Mesh mesh, pipeline::ReadAvatarObj(flags.obj));
+  auto measured = core::MeasureBody(mesh);
+  if (!measured.ok()) {
+    return absl::Status(measured.status().code(),
+                        absl::StrCat(flags.obj, ": ", measured.status().message()));
+  }
+  if (flags.json) {
+    std::string json = "{";
+    for (core::Measurement m : core::AllMeasurements()) {
+      absl::StrAppendFormat(&json, "%s\"%s_%s\": %.1f", json.size() > 1 ? ", " : "",
+                            core::MeasurementName(m), core::IsMass(m) ? "kg" : "cm",
+                            Displayed(m, (*measured)[static_cast<int>(m)]));
+    }
+    std::cout << json << "}\n";
+    return absl::OkStatus();
+  }
+  for (core::Measurement m : core::AllMeasurements()) {
+    std::cout << absl::StrFormat("%-16s %7.1f %s\n", core::MeasurementName(m),
+                                 Displayed(m, (*measured)[static_cast<int>(m)]),
+                                 core::IsMass(m) ? "kg" : "cm");
+  }
+  return absl::OkStatus();
+}
+
+void AddMeasureCommand(CLI::App& avatar, CliContext& context) {
+  auto flags = std::make_shared<MeasureFlags>();
+  CLI::App* command = avatar.add_subcommand(
+      "measure", "Take a body's tailor's measurements (ISO 8559-1, README): cm and kg");
+  command->add_option("obj", flags->obj, "Avatar OBJ (13,380 vertices, meters)")->required();
+  command->add_flag("--json", flags->json,
+                    "One JSON object, keys <measurement>_cm and weight_kg (what "
+                    "`avatar from-measurements` reads)");
+  command->callback([&context, flags] {
+    context.action = [flags] { return RunMeasure(*flags); };
+  });
+}
+
 void AddExportCommand(CLI::App& avatar, CliContext& context) {
   auto flags = std::make_shared<ExportFlags>();
   CLI::App* command = avatar.add_subcommand(
@@ -136,7 +185,8 @@ void AddImportCommand(CLI::App& avatar, CliContext& context) {
 void AddAvatarCommand(CLI::App& app, CliContext& context) {
   auto flags = std::make_shared<AvatarFlags>();
   CLI::App* command = app.add_subcommand(
-      "avatar", "Build one MakeHuman body avatar (meters); export/import the common format");
+      "avatar",
+      "Build one MakeHuman body avatar (meters); export/import the common format; measure one");
   command->require_subcommand(0, 1);
   command->add_option("--params", flags->params,
                       "AvatarParams as inline JSON or a JSON file; unset fields take "
@@ -147,6 +197,7 @@ void AddAvatarCommand(CLI::App& app, CliContext& context) {
                     "Write the whole 19,158-vertex hm08 mesh (with helpers) instead of the body");
   AddExportCommand(*command, context);
   AddImportCommand(*command, context);
+  AddMeasureCommand(*command, context);
   // Runs after a subcommand's callback, which has then set the action.
   command->callback([&context, flags, command] {
     if (!command->get_subcommands().empty()) return;

@@ -30,6 +30,7 @@ TEST(CliTest, EveryCommandHasHelp) {
   for (const std::vector<std::string>& command :
        std::vector<std::vector<std::string>>{{"--help"},
                                              {"avatar", "--help"},
+                                             {"avatar", "measure", "--help"},
                                              {"population", "--help"},
                                              {"basis", "--help"},
                                              {"basis", "build", "--help"},
@@ -62,6 +63,29 @@ TEST(CliTest, AvatarMatchesTheBodyModel) {
   ASSERT_EQ(written->vertex_count(), core::kBodyVertexCount);
   EXPECT_LT((written->positions - expected->positions).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_EQ(written->faces, expected->faces);
+}
+
+TEST(CliTest, AvatarMeasureGivesCentimetresAndKilograms) {
+  const fs::path dir = Scratch("measure");
+  ASSERT_EQ(RunFitbase({"avatar", "--params", R"({"gender": 1})", "--out",
+                        (dir / "m.obj").string()}).exit_code, 0);
+  const Result r = RunFitbase({"avatar", "measure", (dir / "m.obj").string(), "--json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // MakeHuman's default man: 1.73 m (the mesh's extent) and a plausible adult's girths.
+  EXPECT_THAT(r.out, HasSubstr(R"("stature_cm": 173.0)"));
+  for (const char* key : {"weight_kg", "bust_girth_cm", "underbust_girth_cm", "waist_girth_cm",
+                          "navel_waist_girth_cm", "hip_girth_cm", "thigh_girth_cm",
+                          "upper_arm_girth_cm", "neck_girth_cm", "inside_leg_cm",
+                          "arm_length_cm", "shoulder_width_cm"}) {
+    EXPECT_THAT(r.out, HasSubstr(absl::StrCat("\"", key, "\": "))) << key;
+  }
+  const Result table = RunFitbase({"avatar", "measure", (dir / "m.obj").string()});
+  EXPECT_THAT(table.out, HasSubstr("stature            173.0 cm"));
+
+  ASSERT_TRUE(core::WriteFileAtomically(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").ok());
+  const Result bad = RunFitbase({"avatar", "measure", (dir / "bad.obj").string()});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_THAT(bad.err, HasSubstr("bad.obj"));
 }
 
 TEST(CliTest, AvatarParamsFromFile) {

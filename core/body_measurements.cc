@@ -1,0 +1,390 @@
+#include "core/body_measurements.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "Eigen/Geometry"
+#include "absl/container/flat_hash_map.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_join.h"
+#include "core/body_model.h"
+
+namespace fitbase::core {
+namespace {
+
+constexpr std::array<Measurement, kMeasurementCount> kAll = {
+    Measurement::kStature,       Measurement::kWeight,       Measurement::kBustGirth,
+    Measurement::kUnderbustGirth, Measurement::kWaistGirth,  Measurement::kHipGirth,
+    Measurement::kThighGirth,    Measurement::kUpperArmGirth, Measurement::kNeckGirth,
+    Measurement::kInsideLeg,     Measurement::kArmLength,    Measurement::kShoulderWidth,
+    Measurement::kNavelWaistGirth,
+};
+
+constexpr std::array<absl::string_view, kMeasurementCount> kNames = {
+    "stature",     "weight",     "bust_girth",      "underbust_girth",
+    "waist_girth", "hip_girth",  "thigh_girth",     "upper_arm_girth",
+    "neck_girth",  "inside_leg", "arm_length",      "shoulder_width",
+    "navel_waist_girth",
+};
+
+// Heights of a band are sampled this far apart: a finer step changes the girths of the
+// default bodies by under 0.5 mm.
+constexpr double kBandStep = 0.0025;
+
+// How far an upper arm section's centroid lies from the midpoint of acromion and olecranon at
+// most: the midpoint lies on the skin, and the thickest arms of the wide populations are under
+// 14 cm across.
+constexpr double kArmReach = 0.14;
+
+// Signed area of a closed 2D polygon (positive counter-clockwise).
+double SignedArea(const std::vector<Eigen::Vector2d>& loop) {
+  double twice = 0;
+  for (size_t i = 0; i < loop.size(); ++i) {
+    const Eigen::Vector2d& a = loop[i];
+    const Eigen::Vector2d& b = loop[(i + 1) % loop.size()];
+    twice += a.x() * b.y() - a.y() * b.x();
+  }
+  return twice / 2;
+}
+
+bool Contains(const std::vector<Eigen::Vector2d>& loop, const Eigen::Vector2d& p) {
+  bool inside = false;
+  for (size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
+    const Eigen::Vector2d& a = loop[i];
+    const Eigen::Vector2d& b = loop[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+// The girth (convex hull perimeter) of the loop of `section` that encloses `inside` (a point
+// of the plane), or NaN when no loop does.
+double GirthAround(const PlaneSection& section, const Eigen::Vector3d& inside) {
+  const Eigen::Vector3d d = inside - section.origin;
+  const Eigen::Vector2d p(d.dot(section.u), d.dot(section.v));
+  double best = std::numeric_limits<double>::quiet_NaN();
+  double best_area = 0;
+  for (const auto& loop : section.loops) {
+    if (loop.size() < 3 || !Contains(loop, p)) continue;
+    // Nested loops (an inner surface) cannot occur on a body; keep the largest anyway.
+    const double area = std::abs(SignedArea(loop));
+    if (area > best_area) {
+      best_area = area;
+      best = ConvexHullPerimeter(loop);
+    }
+  }
+  return best;
+}
+
+// A horizontal girth at height y around the vertical line through (x, z).
+double HorizontalGirth(const Positions& positions, const Triangles& triangles, double y,
+                       double x, double z) {
+  const PlaneSection section = SectionMesh(positions, triangles, Eigen::Vector3d(x, y, z),
+                                           Eigen::Vector3d::UnitY());
+  return GirthAround(section, Eigen::Vector3d(x, y, z));
+}
+
+// The centroid of a loop's points, in the section's plane.
+Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& loop) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : loop) sum += p;
+  return sum / static_cast<double>(loop.size());
+}
+
+// Heights [low, high] over which a girth's extreme is sought, m.
+struct Band {
+  double low;
+  double high;
+};
+
+}  // namespace
+
+absl::string_view MeasurementName(Measurement measurement) {
+  return kNames[static_cast<int>(measurement)];
+}
+
+absl::StatusOr<Measurement> ParseMeasurement(absl::string_view name) {
+  for (Measurement m : kAll) {
+    if (MeasurementName(m) == name) return m;
+  }
+  return absl::InvalidArgumentError(absl::StrCat("unknown measurement '", name,
+                                                 "'; known: ", absl::StrJoin(kNames, ", ")));
+}
+
+bool IsMass(Measurement measurement) { return measurement == Measurement::kWeight; }
+
+std::span<const Measurement> AllMeasurements() { return kAll; }
+
+double ConvexHullPerimeter(std::span<const Eigen::Vector2d> points) {
+  if (points.size() < 2) return 0;
+  std::vector<Eigen::Vector2d> sorted(points.begin(), points.end());
+  std::sort(sorted.begin(), sorted.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+  };
+  // Andrew's monotone chain: lower then upper hull, collinear points dropped.
+  std::vector<Eigen::Vector2d> hull(2 * sorted.size());
+  size_t k = 0;
+  for (const Eigen::Vector2d& p : sorted) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], p) <= 0) --k;
+    hull[k++] = p;
+  }
+  for (size_t i = sorted.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && cross(hull[k - 2], hull[k - 1], sorted[i]) <= 0) --k;
+    hull[k++] = sorted[i];
+  }
+  double perimeter = 0;
+  for (size_t i = 0; i + 1 < k; ++i) perimeter += (hull[i + 1] - hull[i]).norm();
+  return perimeter;
+}
+
+PlaneSection SectionMesh(const Positions& positions, const Triangles& triangles,
+                         const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
+  PlaneSection section;
+  const Eigen::Vector3d n = normal.normalized();
+  section.origin = point;
+  section.u = n.unitOrthogonal();
+  section.v = n.cross(section.u);
+  const Eigen::VectorXd distance = (positions.rowwise() - point.transpose()) * n;
+
+  // Each crossing lies on a mesh edge, so segments that share an edge join: keying points by
+  // their edge separates loops by the mesh's connectivity, not by proximity.
+  auto edge_key = [](int32_t a, int32_t b) {
+    return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
+  };
+  absl::flat_hash_map<uint64_t, int> point_of_edge;
+  std::vector<Eigen::Vector2d> points;
+  std::vector<std::array<int, 2>> links;  // Up to two neighbours per point.
+  auto crossing = [&](int32_t a, int32_t b) {
+    const uint64_t key = edge_key(a, b);
+    auto [it, added] = point_of_edge.try_emplace(key, static_cast<int>(points.size()));
+    if (added) {
+      const double t = distance(a) / (distance(a) - distance(b));
+      const Eigen::Vector3d x =
+          positions.row(a).transpose() + t * (positions.row(b) - positions.row(a)).transpose() -
+          point;
+      points.emplace_back(x.dot(section.u), x.dot(section.v));
+      links.push_back({-1, -1});
+    }
+    return it->second;
+  };
+  auto link = [&](int p, int q) {
+    for (auto [from, to] : {std::pair{p, q}, std::pair{q, p}}) {
+      if (links[from][0] < 0) {
+        links[from][0] = to;
+      } else if (links[from][1] < 0) {
+        links[from][1] = to;
+      }
+    }
+  };
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    int ends[2];
+    int found = 0;
+    for (int c = 0; c < 3 && found < 2; ++c) {
+      const int32_t a = triangles(t, c);
+      const int32_t b = triangles(t, (c + 1) % 3);
+      // A vertex exactly on the plane counts as above it, so no crossing is found twice.
+      if ((distance(a) >= 0) != (distance(b) >= 0)) ends[found++] = crossing(a, b);
+    }
+    if (found == 2) link(ends[0], ends[1]);
+  }
+
+  std::vector<bool> used(points.size(), false);
+  for (size_t start = 0; start < points.size(); ++start) {
+    if (used[start]) continue;
+    std::vector<Eigen::Vector2d> loop;
+    int previous = -1;
+    int current = static_cast<int>(start);
+    while (current >= 0 && !used[current]) {
+      used[current] = true;
+      loop.push_back(points[current]);
+      const int next = links[current][0] != previous ? links[current][0] : links[current][1];
+      previous = current;
+      current = next;
+    }
+    section.loops.push_back(std::move(loop));
+  }
+  return section;
+}
+
+double EnclosedVolume(const Positions& positions, const Triangles& triangles) {
+  double six_volume = 0;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    const Eigen::Vector3d a = positions.row(triangles(t, 0));
+    const Eigen::Vector3d b = positions.row(triangles(t, 1));
+    const Eigen::Vector3d c = positions.row(triangles(t, 2));
+    six_volume += a.dot(b.cross(c));
+  }
+  return six_volume / 6;
+}
+
+absl::StatusOr<BodyMeasurements> MeasureBody(const Mesh& body) {
+  return MeasureBody(body.positions, Triangulate(body.faces), kAll);
+}
+
+absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
+                                             const Triangles& triangles,
+                                             std::span<const Measurement> which) {
+  if (positions.rows() != kBodyVertexCount) {
+    return absl::InvalidArgumentError(absl::StrCat("a body to measure has ", kBodyVertexCount,
+                                                   " vertices (", kBodyTopologyId, "), not ",
+                                                   positions.rows()));
+  }
+  if (!positions.allFinite()) {
+    return absl::InvalidArgumentError("a body to measure has non-finite positions");
+  }
+  if (triangles.rows() == 0 || triangles.minCoeff() < 0 ||
+      triangles.maxCoeff() >= positions.rows()) {
+    return absl::InvalidArgumentError("a body to measure needs the faces of its topology");
+  }
+  using L = BodyLandmarks;
+  auto at = [&](int32_t v) -> Eigen::Vector3d { return positions.row(v).transpose(); };
+  const double floor = positions.col(1).minCoeff();
+  const double top = positions.col(1).maxCoeff();
+  const Eigen::Vector3d crotch = at(L::kCrotch);
+  const Eigen::Vector3d navel = at(L::kNavel);
+  const Eigen::Vector3d underbust = at(L::kLeftUnderbust);
+  const Eigen::Vector3d bust = at(L::kLeftBustPoint);
+  const Eigen::Vector3d acromion = at(L::kLeftAcromion);
+  const Eigen::Vector3d olecranon = at(L::kLeftOlecranon);
+  const Eigen::Vector3d wrist = at(L::kLeftWrist);
+
+  // Torso girths are taken around the vertical line on the centre plane (x = 0; hm08 is
+  // symmetric) 5 cm behind the band's front landmark: inside the torso at every height of
+  // the band, even on thin bodies, and outside the arms.
+  auto torso_girth = [&](double y, const Eigen::Vector3d& front) {
+    return HorizontalGirth(positions, triangles, y, 0.0, front.z() - 0.05);
+  };
+  // Near the armpits a horizontal section of the torso runs into the arms, which the mesh
+  // joins to it there: a chest girth counts only sections that stay inside the upper arms'
+  // line (midway between acromion and elbow; a torso is narrower there even on heavy bodies).
+  const double arm_line = (acromion.x() + olecranon.x()) / 2;
+  // 10 cm behind the bust point: 5 cm can fall in the cleavage of a large bust.
+  auto chest_girth = [&](double y, const Eigen::Vector3d& front) {
+    const Eigen::Vector3d inside(0.0, y, front.z() - 0.10);
+    const PlaneSection section =
+        SectionMesh(positions, triangles, inside, Eigen::Vector3d::UnitY());
+    const Eigen::Vector3d d = inside - section.origin;
+    const Eigen::Vector2d p(d.dot(section.u), d.dot(section.v));
+    for (const auto& loop : section.loops) {
+      if (loop.size() < 3 || !Contains(loop, p)) continue;
+      for (const Eigen::Vector2d& q : loop) {
+        const Eigen::Vector3d world = section.origin + q.x() * section.u + q.y() * section.v;
+        if (std::abs(world.x()) > arm_line) return std::numeric_limits<double>::quiet_NaN();
+      }
+    }
+    return GirthAround(section, inside);
+  };
+  auto extreme_over = [&](Band band, bool largest, auto&& girth_at) {
+    double best = std::numeric_limits<double>::quiet_NaN();
+    const int steps = std::max(1, static_cast<int>(std::ceil((band.high - band.low) / kBandStep)));
+    for (int i = 0; i <= steps; ++i) {
+      const double g = girth_at(band.low + (band.high - band.low) * i / steps);
+      if (std::isnan(g)) continue;
+      if (std::isnan(best) || (largest ? g > best : g < best)) best = g;
+    }
+    return best;
+  };
+
+  auto measure = [&](Measurement measurement) -> double {
+    switch (measurement) {
+      case Measurement::kStature:
+        return top - floor;
+      case Measurement::kWeight:
+        return EnclosedVolume(positions, triangles) * kBodyDensity;
+      case Measurement::kBustGirth:
+        return extreme_over({bust.y() - 0.04, bust.y() + 0.04}, true,
+                            [&](double y) { return chest_girth(y, bust); });
+      case Measurement::kUnderbustGirth:
+        return chest_girth(underbust.y(), underbust);
+      case Measurement::kWaistGirth:
+        return extreme_over({navel.y(), underbust.y()}, false,
+                            [&](double y) { return torso_girth(y, navel); });
+      case Measurement::kNavelWaistGirth:
+        return torso_girth(navel.y(), navel);
+      case Measurement::kHipGirth:
+        return extreme_over({crotch.y() + 0.01, crotch.y() + 0.6 * (navel.y() - crotch.y())},
+                            true, [&](double y) { return torso_girth(y, crotch); });
+      case Measurement::kThighGirth:
+        // The left thigh: the largest loop left of the centre line (the hand hangs further out).
+        return extreme_over({crotch.y() - 0.08, crotch.y() - 0.01}, true, [&](double y) {
+          const PlaneSection section = SectionMesh(
+              positions, triangles, Eigen::Vector3d(0, y, 0), Eigen::Vector3d::UnitY());
+          double best = std::numeric_limits<double>::quiet_NaN();
+          double best_area = 0;
+          for (const auto& loop : section.loops) {
+            if (loop.size() < 3) continue;
+            const Eigen::Vector2d centroid = Centroid(loop);
+            const Eigen::Vector3d world =
+                section.origin + centroid.x() * section.u + centroid.y() * section.v;
+            if (world.x() <= 0 || world.x() > 0.25) continue;
+            const double area = std::abs(SignedArea(loop));
+            if (area > best_area) {
+              best_area = area;
+              best = ConvexHullPerimeter(loop);
+            }
+          }
+          return best;
+        });
+      case Measurement::kUpperArmGirth: {
+        // Midway from acromion to olecranon the plane also cuts the torso beside the arm: of
+        // the loops near the landmarks' line, the arm's is the one furthest from the centre
+        // line. On some bodies the plane there still passes through the armpit, where the mesh
+        // joins arm and torso into one loop; the girth is then taken where the arm first
+        // separates, up to 70% of the way to the olecranon.
+        for (double along = 0.5; along <= 0.7 + 1e-9; along += 0.05) {
+          const Eigen::Vector3d middle = acromion + along * (olecranon - acromion);
+          const PlaneSection section =
+              SectionMesh(positions, triangles, middle, olecranon - acromion);
+          double best = std::numeric_limits<double>::quiet_NaN();
+          double outermost = -std::numeric_limits<double>::infinity();
+          for (const auto& loop : section.loops) {
+            if (loop.size() < 3) continue;
+            const Eigen::Vector2d c = Centroid(loop);
+            const Eigen::Vector3d world = section.origin + c.x() * section.u + c.y() * section.v;
+            if ((world - middle).norm() > kArmReach || world.x() <= outermost) continue;
+            outermost = world.x();
+            best = ConvexHullPerimeter(loop);
+          }
+          if (!std::isnan(best)) return best;
+        }
+        return std::numeric_limits<double>::quiet_NaN();
+      }
+      case Measurement::kNeckGirth: {
+        const Eigen::Vector3d front = at(L::kNeckFront);
+        const Eigen::Vector3d back = at(L::kNeckBack);
+        const Eigen::Vector3d normal = Eigen::Vector3d::UnitX().cross(back - front);
+        return GirthAround(SectionMesh(positions, triangles, front, normal), (front + back) / 2);
+      }
+      case Measurement::kInsideLeg:
+        return crotch.y() - floor;
+      case Measurement::kArmLength:
+        return (olecranon - acromion).norm() + (wrist - olecranon).norm();
+      case Measurement::kShoulderWidth:
+        return (at(L::kRightAcromion) - acromion).norm();
+    }
+    return std::numeric_limits<double>::quiet_NaN();
+  };
+
+  BodyMeasurements m;
+  m.fill(std::numeric_limits<double>::quiet_NaN());
+  for (Measurement measurement : which) {
+    const double value = measure(measurement);
+    if (!std::isfinite(value) || value <= 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("the body's ", MeasurementName(measurement),
+                       " cannot be taken: no section of the mesh encloses its landmark"));
+    }
+    m[static_cast<int>(measurement)] = value;
+  }
+  return m;
+}
+
+}  // namespace fitbase::core
