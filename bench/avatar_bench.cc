@@ -52,7 +52,7 @@ int Main(int argc, char** argv) {
   }
   std::printf("body model load (base.obj + 430 targets): %.1f ms\n", 1e3 * load_s);
 
-  const core::BodyParams params = core::SampleBodyParams(core::PopulationPreset::kAll, 1, 0);
+  const core::BodyParams params = core::SampleBodyParams(core::PopulationPreset::kAllWide, 1, 0);
   const double sparse_s = MedianSeconds(50, [&] { (void)model->BuildFullMesh(params); });
 
   // Baseline: the same weighted sum with every target stored densely (19,158 x 3 each).
@@ -89,7 +89,7 @@ int Main(int argc, char** argv) {
 
   Eigen::MatrixXd samples(3 * core::kBodyVertexCount, population);
   for (int i = 0; i < population; ++i) {
-    auto body = model->BuildBody(core::SampleBodyParams(core::PopulationPreset::kAll, 1, i));
+    auto body = model->BuildBody(core::SampleBodyParams(core::PopulationPreset::kAllWide, 1, i));
     samples.col(i) = Eigen::Map<const Eigen::VectorXd>(body->positions.data(), body->positions.size());
   }
   const auto pca_start = Clock::now();

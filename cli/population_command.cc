@@ -16,6 +16,7 @@ struct PopulationFlags {
   int64_t count = 0;
   uint64_t seed = 1;
   std::string out;
+  bool calibration = false;
 };
 
 absl::Status RunPopulation(const CliContext& context, const PopulationFlags& flags) {
@@ -25,10 +26,14 @@ absl::Status RunPopulation(const CliContext& context, const PopulationFlags& fla
         absl::StrCat("--count is ", flags.count, "; expected 1 to ", kMaxPopulation));
   }
   ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(ResolveDataDir(context)));
-  RETURN_IF_ERROR(
-      pipeline::WritePopulationFolder(model, preset, flags.seed, flags.count, flags.out));
+  std::vector<core::CalibratedAvatar> calibration;
+  RETURN_IF_ERROR(pipeline::WritePopulationFolder(model, preset, flags.seed, flags.count,
+                                                  flags.out, &calibration));
   std::cout << "wrote " << flags.count << " avatars (preset " << flags.preset << ", seed "
             << flags.seed << ") to " << flags.out << "\n";
+  if (flags.calibration && !calibration.empty()) {
+    std::cout << "\n" << pipeline::CalibrationTable(calibration);
+  }
   return absl::OkStatus();
 }
 
@@ -38,7 +43,11 @@ void AddPopulationCommand(CLI::App& app, CliContext& context) {
   auto flags = std::make_shared<PopulationFlags>();
   CLI::App* command =
       app.add_subcommand("population", "Sample a seeded population of adult avatars");
-  command->add_option("--preset", flags->preset, "women, men or all (default: all)");
+  command->add_option("--preset", flags->preset,
+                      "women, men or all, calibrated to the ANSUR II survey (README); "
+                      "women-wide, men-wide or all-wide, the first wide samplers (default: all)");
+  command->add_flag("--calibration", flags->calibration,
+                    "Print how the population reproduces the survey (calibrated presets)");
   command->add_option("--count", flags->count, "Number of avatars")->required();
   command->add_option("--seed", flags->seed, "Random seed (default: 1)");
   command->add_option("--out", flags->out,

@@ -81,14 +81,6 @@ double GirthAround(const PlaneSection& section, const Eigen::Vector3d& inside) {
   return best;
 }
 
-// A horizontal girth at height y around the vertical line through (x, z).
-double HorizontalGirth(const Positions& positions, const Triangles& triangles, double y,
-                       double x, double z) {
-  const PlaneSection section = SectionMesh(positions, triangles, Eigen::Vector3d(x, y, z),
-                                           Eigen::Vector3d::UnitY());
-  return GirthAround(section, Eigen::Vector3d(x, y, z));
-}
-
 // The centroid of a loop's points, in the section's plane.
 Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& loop) {
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
@@ -145,14 +137,31 @@ double ConvexHullPerimeter(std::span<const Eigen::Vector2d> points) {
   return perimeter;
 }
 
+namespace {
+PlaneSection SectionOf(const Positions& positions, const Triangles& triangles,
+                       const std::vector<int32_t>* candidates, const Eigen::Vector3d& point,
+                       const Eigen::Vector3d& normal);
+}  // namespace
+
 PlaneSection SectionMesh(const Positions& positions, const Triangles& triangles,
                          const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
+  return SectionOf(positions, triangles, nullptr, point, normal);
+}
+
+namespace {
+
+PlaneSection SectionOf(const Positions& positions, const Triangles& triangles,
+                       const std::vector<int32_t>* candidates, const Eigen::Vector3d& point,
+                       const Eigen::Vector3d& normal) {
   PlaneSection section;
   const Eigen::Vector3d n = normal.normalized();
   section.origin = point;
   section.u = n.unitOrthogonal();
   section.v = n.cross(section.u);
-  const Eigen::VectorXd distance = (positions.rowwise() - point.transpose()) * n;
+  auto distance = [&](int32_t v) {
+    return (positions(v, 0) - point.x()) * n.x() + (positions(v, 1) - point.y()) * n.y() +
+           (positions(v, 2) - point.z()) * n.z();
+  };
 
   // Each crossing lies on a mesh edge, so segments that share an edge join: keying points by
   // their edge separates loops by the mesh's connectivity, not by proximity.
@@ -184,7 +193,10 @@ PlaneSection SectionMesh(const Positions& positions, const Triangles& triangles,
       }
     }
   };
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+  const Eigen::Index count =
+      candidates ? static_cast<Eigen::Index>(candidates->size()) : triangles.rows();
+  for (Eigen::Index i = 0; i < count; ++i) {
+    const Eigen::Index t = candidates ? (*candidates)[i] : i;
     int ends[2];
     int found = 0;
     for (int c = 0; c < 3 && found < 2; ++c) {
@@ -213,6 +225,8 @@ PlaneSection SectionMesh(const Positions& positions, const Triangles& triangles,
   }
   return section;
 }
+
+}  // namespace
 
 double EnclosedVolume(const Positions& positions, const Triangles& triangles) {
   double six_volume = 0;
@@ -259,8 +273,29 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
   // Torso girths are taken around the vertical line on the centre plane (x = 0; hm08 is
   // symmetric) 5 cm behind the band's front landmark: inside the torso at every height of
   // the band, even on thin bodies, and outside the arms.
+  // Horizontal sections visit only the triangles of their height bin: a body's triangles span
+  // at most a few centimetres, so a section reads a hundredth of the mesh.
+  constexpr double kBin = 0.01;
+  const int bins = static_cast<int>((top - floor) / kBin) + 1;
+  std::vector<std::vector<int32_t>> by_height(bins);
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    double low = top, high = floor;
+    for (int c = 0; c < 3; ++c) {
+      low = std::min(low, positions(triangles(t, c), 1));
+      high = std::max(high, positions(triangles(t, c), 1));
+    }
+    const int last = std::min(bins - 1, static_cast<int>((high - floor) / kBin));
+    for (int bin = static_cast<int>((low - floor) / kBin); bin <= last; ++bin) {
+      by_height[bin].push_back(static_cast<int32_t>(t));
+    }
+  }
+  auto horizontal = [&](const Eigen::Vector3d& point) {
+    const int bin = std::clamp(static_cast<int>((point.y() - floor) / kBin), 0, bins - 1);
+    return SectionOf(positions, triangles, &by_height[bin], point, Eigen::Vector3d::UnitY());
+  };
   auto torso_girth = [&](double y, const Eigen::Vector3d& front) {
-    return HorizontalGirth(positions, triangles, y, 0.0, front.z() - 0.05);
+    const Eigen::Vector3d inside(0.0, y, front.z() - 0.05);
+    return GirthAround(horizontal(inside), inside);
   };
   // Near the armpits a horizontal section of the torso runs into the arms, which the mesh
   // joins to it there: a chest girth counts only sections that stay inside the upper arms'
@@ -269,8 +304,7 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
   // 10 cm behind the bust point: 5 cm can fall in the cleavage of a large bust.
   auto chest_girth = [&](double y, const Eigen::Vector3d& front) {
     const Eigen::Vector3d inside(0.0, y, front.z() - 0.10);
-    const PlaneSection section =
-        SectionMesh(positions, triangles, inside, Eigen::Vector3d::UnitY());
+    const PlaneSection section = horizontal(inside);
     const Eigen::Vector3d d = inside - section.origin;
     const Eigen::Vector2d p(d.dot(section.u), d.dot(section.v));
     for (const auto& loop : section.loops) {
@@ -315,8 +349,7 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
       case Measurement::kThighGirth:
         // The left thigh: the largest loop left of the centre line (the hand hangs further out).
         return extreme_over({crotch.y() - 0.08, crotch.y() - 0.01}, true, [&](double y) {
-          const PlaneSection section = SectionMesh(
-              positions, triangles, Eigen::Vector3d(0, y, 0), Eigen::Vector3d::UnitY());
+          const PlaneSection section = horizontal(Eigen::Vector3d(0, y, 0));
           double best = std::numeric_limits<double>::quiet_NaN();
           double best_area = 0;
           for (const auto& loop : section.loops) {

@@ -1,4 +1,5 @@
-// Population presets of realistic adults, sampled from the distributions below. TN(m, s) [lo, hi]
+// The wide population presets (women-wide, men-wide, all-wide), sampled from the
+// distributions below; population_calibration.cc has the calibrated ones. TN(m, s) [lo, hi]
 // is a normal with mean m and standard deviation s conditioned on [lo, hi]
 // (Random::TruncatedNormal); m and s are those of the normal before truncation.
 //
@@ -20,7 +21,7 @@
 // | buttocks-volume                      | TN(0, 0.2) [-0.6, 0.6]     | same                     |
 // | breast dist, point, volume-vert      | TN(0, 0.2) [-0.6, 0.6]     | 0                        |
 //
-// `all` flips a fair coin per avatar and then samples the women or the men column.
+// `all-wide` flips a fair coin per avatar and then samples the women or the men column.
 // Caucasian is set to 1 - african - asian (clamped at 0) so the shares sum to 1 exactly enough
 // for ValidateBodyParams. Translation modifiers (*-trans-*), navel and nipple modifiers are left
 // out because they move or detail the surface rather than change the body's shape, and the torso
@@ -118,6 +119,9 @@ constexpr PresetName kPresetNames[] = {
     {PopulationPreset::kWomen, "women"},
     {PopulationPreset::kMen, "men"},
     {PopulationPreset::kAll, "all"},
+    {PopulationPreset::kWomenWide, "women-wide"},
+    {PopulationPreset::kMenWide, "men-wide"},
+    {PopulationPreset::kAllWide, "all-wide"},
 };
 
 double Draw(Random& random, const TruncatedNormalSpec& spec) {
@@ -169,10 +173,17 @@ absl::string_view PopulationPresetName(PopulationPreset preset) {
   return it == std::end(kPresetNames) ? absl::string_view() : it->name;
 }
 
+bool IsCalibratedPreset(PopulationPreset preset) {
+  return preset == PopulationPreset::kWomen || preset == PopulationPreset::kMen ||
+         preset == PopulationPreset::kAll;
+}
+
 BodyParams SampleBodyParams(PopulationPreset preset, uint64_t seed, uint64_t index) {
   Random random(seed, index);
-  bool woman = preset == PopulationPreset::kWomen;
-  if (preset == PopulationPreset::kAll) woman = random.Uniform01() < 0.5;
+  bool woman = preset == PopulationPreset::kWomen || preset == PopulationPreset::kWomenWide;
+  if (preset == PopulationPreset::kAll || preset == PopulationPreset::kAllWide) {
+    woman = random.Uniform01() < 0.5;
+  }
   return SampleAdult(woman, random);
 }
 

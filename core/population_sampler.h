@@ -9,14 +9,19 @@
 
 namespace fitbase::core {
 
-enum class PopulationPreset { kWomen, kMen, kAll };
+// women, men and all reproduce a survey's adults (PopulationSampler); the -wide presets are
+// the first, wide samplers (stature SD about 2.5 times the survey's), kept for stress tests.
+enum class PopulationPreset { kWomen, kMen, kAll, kWomenWide, kMenWide, kAllWide };
 
 absl::StatusOr<PopulationPreset> ParsePopulationPreset(absl::string_view name);
 absl::string_view PopulationPresetName(PopulationPreset preset);
+bool IsCalibratedPreset(PopulationPreset preset);
 
-// Avatar number `index` of the population (preset, seed). Each avatar draws from its own
-// generator seeded from (seed, index), so a population of N avatars is the prefix of one of
-// N + M avatars, and the result is bit-identical on every platform.
+// Avatar number `index` of a wide population (preset, seed), from the distributions in
+// population_sampler.cc; a calibrated preset gives its wide twin's avatar (PopulationSampler
+// makes its survey bodies). Each avatar draws from its own generator seeded from (seed,
+// index), so a population of N avatars is the prefix of one of N + M avatars, and the result
+// is bit-identical on every platform.
 BodyParams SampleBodyParams(PopulationPreset preset, uint64_t seed, uint64_t index);
 
 }  // namespace fitbase::core

@@ -8,6 +8,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "core/clothing_fitter.h"
+#include "core/population_calibration.h"
 #include "core/population_sampler.h"
 #include "core/status_macros.h"
 #include "core/triangle_bvh.h"
@@ -117,9 +118,12 @@ absl::StatusOr<std::vector<Holdout>> MakeHoldouts(const core::BodyModel& body_mo
                                                   double* error_mean_mm) {
   std::vector<Holdout> holdouts;
   double error_sum = 0;
+  ASSIGN_OR_RETURN(const core::PopulationSampler sampler,
+                   core::PopulationSampler::Create(body_model));
   for (int i = 0; i < spec.holdout_count; ++i) {
-    ASSIGN_OR_RETURN(core::Mesh body, body_model.BuildBody(core::SampleBodyParams(
-                                          preset, spec.holdout_seed, static_cast<uint64_t>(i))));
+    ASSIGN_OR_RETURN(const core::BodyParams params,
+                     sampler.Sample(preset, spec.holdout_seed, static_cast<uint64_t>(i)));
+    ASSIGN_OR_RETURN(core::Mesh body, body_model.BuildBody(params));
     ASSIGN_OR_RETURN(v1::AvatarWeights weights, ProjectAvatar(basis, body));
     error_sum += weights.mean_error_mm();
     ASSIGN_OR_RETURN(core::TriangleBvh surface,

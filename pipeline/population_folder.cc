@@ -1,6 +1,7 @@
 #include "pipeline/population_folder.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 
 #include "absl/strings/ascii.h"
@@ -60,7 +61,9 @@ absl::Status ReadParamsLines(const std::filesystem::path& path, v1::PopulationPr
 
 absl::Status WritePopulationFolder(const core::BodyModel& model, core::PopulationPreset preset,
                                    uint64_t seed, int64_t count,
-                                   const std::filesystem::path& dir) {
+                                   const std::filesystem::path& dir,
+                                   std::vector<core::CalibratedAvatar>* calibration) {
+  ASSIGN_OR_RETURN(const core::PopulationSampler sampler, core::PopulationSampler::Create(model));
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec)
@@ -68,7 +71,15 @@ absl::Status WritePopulationFolder(const core::BodyModel& model, core::Populatio
   ProgressReporter progress("avatars", count, std::cerr, StderrIsTerminal());
   std::string params_lines;
   for (int64_t i = 0; i < count; ++i) {
-    const core::BodyParams params = core::SampleBodyParams(preset, seed, static_cast<uint64_t>(i));
+    core::BodyParams params;
+    if (core::IsCalibratedPreset(preset)) {
+      ASSIGN_OR_RETURN(core::CalibratedAvatar avatar,
+                       sampler.SampleCalibrated(preset, seed, static_cast<uint64_t>(i)));
+      params = avatar.params;
+      if (calibration != nullptr) calibration->push_back(std::move(avatar));
+    } else {
+      params = core::SampleBodyParams(preset, seed, static_cast<uint64_t>(i));
+    }
     ASSIGN_OR_RETURN(core::Mesh body, model.BuildBody(params));
     RETURN_IF_ERROR(core::WriteObj(dir / AvatarFileName(i), body));
     absl::StrAppend(&params_lines, proto::ToJson(proto::BodyParamsToProto(params)), "\n");
@@ -94,8 +105,10 @@ absl::StatusOr<Population> SamplePopulation(const core::BodyModel& model,
   population.provenance.set_seed(seed);
   population.provenance.set_count(static_cast<uint32_t>(count));
   population.samples.resize(3 * core::kBodyVertexCount, count);
+  ASSIGN_OR_RETURN(const core::PopulationSampler sampler, core::PopulationSampler::Create(model));
   for (int64_t i = 0; i < count; ++i) {
-    const core::BodyParams params = core::SampleBodyParams(preset, seed, static_cast<uint64_t>(i));
+    ASSIGN_OR_RETURN(const core::BodyParams params,
+                     sampler.Sample(preset, seed, static_cast<uint64_t>(i)));
     ASSIGN_OR_RETURN(core::Mesh body, model.BuildBody(params));
     population.samples.col(i) =
         Eigen::Map<const Eigen::VectorXd>(body.positions.data(), body.positions.size());
@@ -103,6 +116,73 @@ absl::StatusOr<Population> SamplePopulation(const core::BodyModel& model,
     *population.provenance.add_params() = proto::BodyParamsToProto(params);
   }
   return population;
+}
+
+std::string CalibrationTable(const std::vector<core::CalibratedAvatar>& avatars) {
+  constexpr int kN = core::kSurveyMeasurementCount;
+  const std::array<double, kN> allowance = {0.004, 0.5, 0.009, 0.009, 0.009};
+  std::string table;
+  for (const core::SurveyTable* survey : {&core::AnsurWomen(), &core::AnsurMen()}) {
+    const bool women = survey == &core::AnsurWomen();
+    std::vector<const core::CalibratedAvatar*> group;
+    for (const core::CalibratedAvatar& avatar : avatars) {
+      if ((avatar.params.gender < 0.5) == women) group.push_back(&avatar);
+    }
+    if (group.size() < 2) continue;
+    absl::StrAppendFormat(&table,
+                          "%s against %d avatars\n\n| measurement | survey mean | survey SD | "
+                          "mean | SD | mean miss / survey SD | SD / survey SD | within allowance |\n"
+                          "|---|---|---|---|---|---|---|---|\n",
+                          survey->name, group.size());
+    for (int k = 0; k < kN; ++k) {
+      const double unit = core::IsMass(core::kSurveyMeasurements[k]) ? 1.0 : 100.0;
+      double sum = 0, squares = 0;
+      int within = 0;
+      for (const core::CalibratedAvatar* avatar : group) {
+        sum += avatar->measured[k];
+        within += std::abs(avatar->measured[k] - avatar->target[k]) <= allowance[k];
+      }
+      const double mean = sum / static_cast<double>(group.size());
+      for (const core::CalibratedAvatar* avatar : group) {
+        squares += (avatar->measured[k] - mean) * (avatar->measured[k] - mean);
+      }
+      const double sd = std::sqrt(squares / static_cast<double>(group.size() - 1));
+      absl::StrAppendFormat(&table, "| %s | %.1f | %.1f | %.1f | %.1f | %+.2f | %.2f | %.1f%% |\n",
+                            core::MeasurementName(core::kSurveyMeasurements[k]),
+                            unit * survey->mean[k], unit * survey->sd[k], unit * mean, unit * sd,
+                            (mean - survey->mean[k]) / survey->sd[k], sd / survey->sd[k],
+                            100.0 * within / static_cast<double>(group.size()));
+    }
+    // Correlations: the survey's against the population's, the largest difference named.
+    double worst = 0;
+    std::string worst_pair;
+    for (int a = 0; a < kN; ++a) {
+      for (int b = a + 1; b < kN; ++b) {
+        double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+        for (const core::CalibratedAvatar* avatar : group) {
+          const double x = avatar->measured[a], y = avatar->measured[b];
+          sa += x;
+          sb += y;
+          saa += x * x;
+          sbb += y * y;
+          sab += x * y;
+        }
+        const double n = static_cast<double>(group.size());
+        const double r = (sab - sa * sb / n) /
+                         std::sqrt((saa - sa * sa / n) * (sbb - sb * sb / n));
+        if (std::abs(r - survey->correlation[a][b]) > worst) {
+          worst = std::abs(r - survey->correlation[a][b]);
+          worst_pair = absl::StrFormat(
+              "%s-%s: survey %.2f, population %.2f",
+              core::MeasurementName(core::kSurveyMeasurements[a]),
+              core::MeasurementName(core::kSurveyMeasurements[b]), survey->correlation[a][b], r);
+        }
+      }
+    }
+    absl::StrAppendFormat(&table, "\nCorrelations: largest difference %.2f (%s).\n\n", worst,
+                          worst_pair);
+  }
+  return table;
 }
 
 absl::StatusOr<Population> ReadPopulationFolder(const std::filesystem::path& dir) {

@@ -90,8 +90,12 @@ TEST(PopulationFolderTest, ReadBackGivesProvenanceParamsAndBodies) {
   ASSERT_EQ(population->samples.cols(), 3);
   EXPECT_EQ(population->faces, Model().body_faces());
 
+  auto sampler = core::PopulationSampler::Create(Model());
+  ASSERT_TRUE(sampler.ok()) << sampler.status();
   for (int i = 0; i < 3; ++i) {
-    const core::BodyParams expected = core::SampleBodyParams(kPreset, kSeed, i);
+    auto sampled = sampler->Sample(kPreset, kSeed, i);
+    ASSERT_TRUE(sampled.ok()) << sampled.status();
+    const core::BodyParams expected = *sampled;
     auto params = proto::BodyParamsFromProto(population->provenance.params(i));
     ASSERT_TRUE(params.ok()) << params.status();
     EXPECT_EQ(*params, expected) << "avatar " << i;
