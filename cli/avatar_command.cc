@@ -1,5 +1,6 @@
 // fitbase avatar: one MakeHuman body from parameters; `avatar export` / `avatar import`
 // convert between avatar OBJs and the common avatar format (docs/avatar-format.md).
+#include <cmath>
 #include <iostream>
 
 #include "absl/strings/str_cat.h"
@@ -11,6 +12,8 @@
 #include "core/obj_io.h"
 #include "core/status_macros.h"
 #include "pipeline/avatar_file.h"
+#include "pipeline/avatar_from_measurements.h"
+#include "pipeline/avatar_projection.h"
 #include "proto/avatar_codec.h"
 #include "proto/avatar_params_codec.h"
 #include "proto/json_codec.h"
@@ -35,6 +38,13 @@ struct ExportFlags {
 struct ImportFlags {
   std::string in;
   std::string out;
+};
+
+struct FromMeasurementsFlags {
+  std::string basis;
+  std::string measurements;
+  std::string out;
+  std::string weights;
 };
 
 struct MeasureFlags {
@@ -140,6 +150,64 @@ absl::Status RunMeasure(const MeasureFlags& flags) {
   return absl::OkStatus();
 }
 
+absl::Status RunFromMeasurements(const FromMeasurementsFlags& flags) {
+  ASSIGN_OR_RETURN(const std::string json, core::ReadFileToString(flags.measurements));
+  v1::TypedMeasurements typed;
+  if (absl::Status parsed = proto::ParseJson(json, &typed); !parsed.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat(flags.measurements, ": ", parsed.message()));
+  }
+  auto given = pipeline::MeasurementsFromProto(typed);
+  if (!given.ok()) {
+    return absl::Status(given.status().code(),
+                        absl::StrCat(flags.measurements, ": ", given.status().message()));
+  }
+  ASSIGN_OR_RETURN(const pipeline::LoadedAvatarBasis basis, pipeline::LoadAvatarBasis(flags.basis));
+  ASSIGN_OR_RETURN(const pipeline::MeasurementModel model,
+                   pipeline::MeasurementModel::Build(basis));
+  ASSIGN_OR_RETURN(const pipeline::MeasuredAvatar made,
+                   pipeline::AvatarFromMeasurements(basis, model, *given));
+  RETURN_IF_ERROR(core::WriteObj(flags.out, made.avatar));
+  if (!flags.weights.empty()) {
+    v1::AvatarWeights weights;
+    weights.set_basis_id(basis.message.id());
+    for (double w : made.weights) weights.add_weights(w);
+    RETURN_IF_ERROR(core::WriteFileAtomically(flags.weights, proto::ToJson(weights) + "\n"));
+  }
+  for (const auto& [measurement, given_value, reached] : made.residuals) {
+    const double unit = core::IsMass(measurement) ? 1.0 : 100.0;
+    const char* name = core::IsMass(measurement) ? "kg" : "cm";
+    std::cout << absl::StrFormat(
+        "%-18s %7.1f %s given, %7.1f %s reached%s\n", core::MeasurementName(measurement),
+        unit * given_value, name, unit * reached, name,
+        std::abs(reached - given_value) <= pipeline::MeasurementAllowance(measurement)
+            ? ""
+            : "  (outside ISO 20685-1's allowance)");
+  }
+  for (const std::string& reason : made.out_of_distribution_reasons) {
+    std::cout << "out of distribution: " << reason << "\n";
+  }
+  std::cout << "wrote " << flags.out << " (basis " << basis.message.id() << ", "
+            << made.weights.size() << " weights)\n";
+  return absl::OkStatus();
+}
+
+void AddFromMeasurementsCommand(CLI::App& avatar, CliContext& context) {
+  auto flags = std::make_shared<FromMeasurementsFlags>();
+  CLI::App* command = avatar.add_subcommand(
+      "from-measurements",
+      "Make the basis's body that best matches a person's measurements (cm, kg)");
+  command->add_option("--basis", flags->basis, "Avatar basis (.fbb)")->required();
+  command->add_option("--measurements", flags->measurements,
+                      "JSON: any of the keys `avatar measure --json` prints, stature_cm at least")
+      ->required();
+  command->add_option("--out", flags->out, "Output avatar OBJ (meters)")->required();
+  command->add_option("--weights", flags->weights,
+                      "Also write the weights as JSON (what `fit --weights` reads)");
+  command->callback([&context, flags] {
+    context.action = [flags] { return RunFromMeasurements(*flags); };
+  });
+}
+
 void AddMeasureCommand(CLI::App& avatar, CliContext& context) {
   auto flags = std::make_shared<MeasureFlags>();
   CLI::App* command = avatar.add_subcommand(
@@ -198,6 +266,7 @@ void AddAvatarCommand(CLI::App& app, CliContext& context) {
   AddExportCommand(*command, context);
   AddImportCommand(*command, context);
   AddMeasureCommand(*command, context);
+  AddFromMeasurementsCommand(*command, context);
   // Runs after a subcommand's callback, which has then set the action.
   command->callback([&context, flags, command] {
     if (!command->get_subcommands().empty()) return;

@@ -11,6 +11,7 @@
 #include "core/status_macros.h"
 #include "fitbase/v1/catalog.grpc.pb.h"
 #include "pipeline/avatar_basis_builder.h"
+#include "pipeline/avatar_from_measurements.h"
 #include "pipeline/avatar_file.h"
 #include "pipeline/avatar_projection.h"
 #include "pipeline/population_folder.h"
@@ -159,6 +160,26 @@ absl::Status RunEval(const BasisFlags& flags) {
   return absl::OkStatus();
 }
 
+absl::Status RunEvalMeasurements(const BasisFlags& flags) {
+  ASSIGN_OR_RETURN(pipeline::LoadedAvatarBasis basis, pipeline::LoadAvatarBasis(flags.basis));
+  ASSIGN_OR_RETURN(pipeline::Population population,
+                   pipeline::ReadPopulationFolder(flags.population));
+  ASSIGN_OR_RETURN(const pipeline::MeasurementModel model,
+                   pipeline::MeasurementModel::Build(basis));
+  std::vector<core::Mesh> avatars;
+  for (Eigen::Index i = 0; i < population.samples.cols(); ++i) {
+    core::Mesh avatar;
+    avatar.positions =
+        Eigen::Map<const core::Positions>(population.samples.col(i).data(), core::kBodyVertexCount, 3);
+    avatar.faces = population.faces;
+    avatars.push_back(std::move(avatar));
+  }
+  ASSIGN_OR_RETURN(const std::string table,
+                   pipeline::EvaluateAvatarFromMeasurements(basis, model, avatars));
+  std::cout << table;
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::Status RunPublish(const BasisFlags& flags) {
@@ -232,6 +253,16 @@ void AddBasisCommands(CLI::App& app, CliContext& context) {
   eval->add_option("--basis", flags->basis, "Basis file (.fbb)")->required();
   eval->add_option("--population", flags->population, "Population folder")->required();
   eval->callback([&context, flags] { context.action = [flags] { return RunEval(*flags); }; });
+
+  CLI::App* eval_measurements = basis->add_subcommand(
+      "eval-measurements",
+      "Avatars from measurements: every avatar of a (held-out) population folder measured and "
+      "fed back with three input sets; reproduction and surface error");
+  eval_measurements->add_option("--basis", flags->basis, "Basis file (.fbb)")->required();
+  eval_measurements->add_option("--population", flags->population, "Population folder")
+      ->required();
+  eval_measurements->callback(
+      [&context, flags] { context.action = [flags] { return RunEvalMeasurements(*flags); }; });
 
   CLI::App* publish = basis->add_subcommand(
       "publish", "Make a basis the tenant's current one for a population, on the coordinator");
