@@ -225,6 +225,46 @@ TEST_F(CliBasisTest, ExampleAtZeroSigmaIsTheMean) {
   EXPECT_THAT(bad.err, HasSubstr("components 0 to 5"));
 }
 
+TEST_F(CliBasisTest, AvatarFromMeasurementsReproducesAMeasuredBody) {
+  const fs::path dir = Scratch("from_measurements");
+  const Result measured =
+      RunFitbase({"avatar", "measure", "--json", (*dir_ / "pop/avatar-00002.obj").string()});
+  ASSERT_EQ(measured.exit_code, 0) << measured.err;
+  ASSERT_TRUE(core::WriteFileAtomically(dir / "m.json", measured.out).ok());
+  const Result r = RunFitbase({"avatar", "from-measurements", "--basis",
+                               (*dir_ / "b.fbb").string(), "--measurements",
+                               (dir / "m.json").string(), "--out", (dir / "a.obj").string(),
+                               "--weights", (dir / "w.json").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("stature "));
+  EXPECT_THAT(r.out, HasSubstr("reached"));
+  auto avatar = core::ReadObj(dir / "a.obj");
+  ASSERT_TRUE(avatar.ok()) << avatar.status();
+  EXPECT_EQ(avatar->vertex_count(), core::kBodyVertexCount);
+  // The weights feed `fit --weights` and `basis project`'s consumers alike.
+  v1::AvatarWeights weights;
+  ASSERT_TRUE(proto::ParseJson(*core::ReadFileToString(dir / "w.json"), &weights).ok());
+  EXPECT_FALSE(weights.basis_id().empty());
+
+  struct Case {
+    std::string json;
+    std::string message;
+  };
+  for (const Case& c : {Case{R"({"stature_cm": 170, "hight_cm": 3})", "hight_cm"},
+                        Case{R"({"weight_kg": 60})", "stature_cm is required"},
+                        Case{R"({"stature_cm": 40})", "stature_cm is 40"},
+                        Case{R"({})", "no measurements"}}) {
+    ASSERT_TRUE(core::WriteFileAtomically(dir / "bad.json", c.json).ok());
+    const Result bad = RunFitbase({"avatar", "from-measurements", "--basis",
+                                   (*dir_ / "b.fbb").string(), "--measurements",
+                                   (dir / "bad.json").string(), "--out",
+                                   (dir / "bad.obj").string()});
+    EXPECT_NE(bad.exit_code, 0) << c.json;
+    EXPECT_THAT(bad.err, HasSubstr(c.message)) << c.json;
+    EXPECT_FALSE(fs::exists(dir / "bad.obj"));
+  }
+}
+
 TEST_F(CliBasisTest, ProjectRejectsBadAvatars) {
   const fs::path dir = Scratch("bad_avatars");
   core::Mesh small;
