@@ -1,6 +1,6 @@
 // The calibrated presets. Per avatar, draws happen in this order: the coin (`all` only),
 // gender, age_years, muscle, proportions, the three ethnic shares, breast_size and
-// breast_firmness (women), the uncalibrated modifiers in kFreeModifiers order (men skip the
+// breast_firmness (women), the uncalibrated modifiers in ShapeModifiers() order (men skip the
 // breast ones), then five standard normals z (truncated to +-3) that make the survey target
 // mean + sd * (L z), L the Cholesky factor of the survey's correlations.
 //
@@ -12,8 +12,9 @@
 // | proportions                        | TN(0.5, 0.1) [0.3, 0.7]    | same                      |
 // | african, asian, caucasian          | Dirichlet(1, 1, 1)         | same                      |
 // | breast_size, breast_firmness       | TN(0.5, 0.1) [0.2, 0.8]    | 0.5 (default)             |
-// | other shape modifiers              | TN(0, 0.1) [-0.3, 0.3]     | same (breast ones 0)      |
-// | stomach-pregnant                   | TN(0, 0.05) [-0.15, 0.15]  | same                      |
+// | the wide presets' shape modifiers  | their distribution at half | same (breast ones 0)      |
+// | but bust, waist, hips circumference| the spread: TN(0, 0.1)     |                           |
+// |                                    | [-0.3, 0.3], pregnant half |                           |
 // | height                             | solved for stature                                     |
 // | mass, bust, waist, hips bundles    | solved for weight, bust, navel waist and hip girth,    |
 // |                                    | added to the free values (kBundles)                    |
@@ -63,63 +64,14 @@ const SurveyTable kAnsurMen = {
                      {0.340, 0.933, 0.836, 0.876, 1.000}}},
 };
 
-struct TruncatedNormalSpec {
-  double mean;
-  double sd;
-  double lo;
-  double hi;
-};
-
-constexpr TruncatedNormalSpec kWomenGender = {0.05, 0.05, 0.0, 0.25};
-constexpr TruncatedNormalSpec kMenGender = {0.95, 0.05, 0.75, 1.0};
 constexpr TruncatedNormalSpec kMuscle = {0.5, 0.1, 0.25, 0.75};
 constexpr TruncatedNormalSpec kProportions = {0.5, 0.1, 0.3, 0.7};
 constexpr TruncatedNormalSpec kBreast = {0.5, 0.1, 0.2, 0.8};
-constexpr TruncatedNormalSpec kShape = {0.0, 0.1, -0.3, 0.3};
-constexpr TruncatedNormalSpec kPregnant = {0.0, 0.05, -0.15, 0.15};
 constexpr double kMaxZ = 3.0;
 
 constexpr absl::string_view kBustModifier = "measure/measure-bust-circ-decr|incr";
 constexpr absl::string_view kWaistModifier = "measure/measure-waist-circ-decr|incr";
 constexpr absl::string_view kHipsModifier = "measure/measure-hips-circ-decr|incr";
-
-struct FreeModifier {
-  absl::string_view name;
-  TruncatedNormalSpec distribution;
-  bool women_only;
-};
-
-constexpr FreeModifier kFreeModifiers[] = {
-    {"measure/measure-neck-circ-decr|incr", kShape, false},
-    {"measure/measure-neck-height-decr|incr", kShape, false},
-    {"measure/measure-upperarm-circ-decr|incr", kShape, false},
-    {"measure/measure-upperarm-length-decr|incr", kShape, false},
-    {"measure/measure-lowerarm-length-decr|incr", kShape, false},
-    {"measure/measure-wrist-circ-decr|incr", kShape, false},
-    {"measure/measure-frontchest-dist-decr|incr", kShape, false},
-    {"measure/measure-underbust-circ-decr|incr", kShape, false},
-    {"measure/measure-napetowaist-dist-decr|incr", kShape, false},
-    {"measure/measure-waisttohip-dist-decr|incr", kShape, false},
-    {"measure/measure-shoulder-dist-decr|incr", kShape, false},
-    {"measure/measure-upperleg-height-decr|incr", kShape, false},
-    {"measure/measure-thigh-circ-decr|incr", kShape, false},
-    {"measure/measure-lowerleg-height-decr|incr", kShape, false},
-    {"measure/measure-calf-circ-decr|incr", kShape, false},
-    {"measure/measure-knee-circ-decr|incr", kShape, false},
-    {"measure/measure-ankle-circ-decr|incr", kShape, false},
-    {"torso/torso-scale-depth-decr|incr", kShape, false},
-    {"torso/torso-scale-horiz-decr|incr", kShape, false},
-    {"torso/torso-vshape-decr|incr", kShape, false},
-    {"hip/hip-scale-depth-decr|incr", kShape, false},
-    {"hip/hip-scale-horiz-decr|incr", kShape, false},
-    {"hip/hip-waist-down|up", kShape, false},
-    {"stomach/stomach-tone-decr|incr", kShape, false},
-    {"stomach/stomach-pregnant-decr|incr", kPregnant, false},
-    {"buttocks/buttocks-volume-decr|incr", kShape, false},
-    {"breast/breast-dist-decr|incr", kShape, true},
-    {"breast/breast-point-decr|incr", kShape, true},
-    {"breast/breast-volume-vert-down|up", kShape, true},
-};
 
 // The solved parameters, in kSurveyMeasurements order, each a direction in parameter space:
 // height (stature); mass, the weight and muscle sliders with the modifiers that carry a heavier
@@ -220,9 +172,17 @@ FreeBody SampleFree(bool woman, Random& random) {
     params.breast_size = Draw(random, kBreast);
     params.breast_firmness = Draw(random, kBreast);
   }
-  for (const FreeModifier& modifier : kFreeModifiers) {
-    const double value = modifier.women_only && !woman ? 0.0 : Draw(random, modifier.distribution);
-    params.modifiers.emplace(std::string(modifier.name), value);
+  // The wide presets' shape modifiers at half their spread, but for the three the bundles
+  // set: the solver needs those free.
+  for (const ShapeModifier& modifier : ShapeModifiers()) {
+    if (modifier.name == kBustModifier || modifier.name == kWaistModifier ||
+        modifier.name == kHipsModifier) {
+      continue;
+    }
+    const TruncatedNormalSpec& wide = modifier.distribution;
+    const TruncatedNormalSpec narrow = {wide.mean, wide.sd / 2, wide.lo / 2, wide.hi / 2};
+    params.modifiers.emplace(std::string(modifier.name),
+                             modifier.women_only && !woman ? 0.0 : Draw(random, narrow));
   }
   return FreeBody{.params = params, .muscle = params.muscle, .breast_size = params.breast_size};
 }

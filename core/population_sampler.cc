@@ -46,15 +46,6 @@
 namespace fitbase::core {
 namespace {
 
-struct TruncatedNormalSpec {
-  double mean;
-  double sd;
-  double lo;
-  double hi;
-};
-
-constexpr TruncatedNormalSpec kWomenGender = {0.05, 0.05, 0.0, 0.25};
-constexpr TruncatedNormalSpec kMenGender = {0.95, 0.05, 0.75, 1.0};
 constexpr double kMinSampledAgeYears = 25.0;
 constexpr double kMaxSampledAgeYears = 70.0;
 constexpr TruncatedNormalSpec kMuscle = {0.5, 0.12, 0.2, 0.85};
@@ -66,12 +57,6 @@ constexpr TruncatedNormalSpec kShape = {0.0, 0.2, -0.6, 0.6};
 // At full strength the pregnant target pushes the belly out by about 10 cm; a third of that
 // covers ordinary bellies without sampling visible pregnancies.
 constexpr TruncatedNormalSpec kPregnant = {0.0, 0.1, -0.3, 0.3};
-
-struct ShapeModifier {
-  absl::string_view name;
-  TruncatedNormalSpec distribution;
-  bool women_only;
-};
 
 constexpr ShapeModifier kShapeModifiers[] = {
     {"measure/measure-neck-circ-decr|incr", kShape, false},
@@ -155,6 +140,8 @@ BodyParams SampleAdult(bool woman, Random& random) {
 }
 
 }  // namespace
+
+std::span<const ShapeModifier> ShapeModifiers() { return kShapeModifiers; }
 
 absl::StatusOr<PopulationPreset> ParsePopulationPreset(absl::string_view name) {
   for (const PresetName& entry : kPresetNames) {

@@ -2,6 +2,8 @@
 #define FITBASE_CORE_POPULATION_SAMPLER_H_
 
 #include <cstdint>
+#include <span>
+
 #include "absl/strings/string_view.h"
 
 #include "absl/status/statusor.h"
@@ -16,6 +18,29 @@ enum class PopulationPreset { kWomen, kMen, kAll, kWomenWide, kMenWide, kAllWide
 absl::StatusOr<PopulationPreset> ParsePopulationPreset(absl::string_view name);
 absl::string_view PopulationPresetName(PopulationPreset preset);
 bool IsCalibratedPreset(PopulationPreset preset);
+
+// A normal with mean `mean` and standard deviation `sd` conditioned on [lo, hi]
+// (Random::TruncatedNormal): how the presets draw a parameter.
+struct TruncatedNormalSpec {
+  double mean;
+  double sd;
+  double lo;
+  double hi;
+};
+
+// A local shape modifier the presets draw, with the wide presets' distribution.
+struct ShapeModifier {
+  absl::string_view name;
+  TruncatedNormalSpec distribution;
+  bool women_only;
+};
+
+// The wide presets' shape modifiers, in the order they are drawn.
+std::span<const ShapeModifier> ShapeModifiers();
+
+// The wide presets' gender draws: women near 0, men near 1.
+inline constexpr TruncatedNormalSpec kWomenGender = {0.05, 0.05, 0.0, 0.25};
+inline constexpr TruncatedNormalSpec kMenGender = {0.95, 0.05, 0.75, 1.0};
 
 // Avatar number `index` of a wide population (preset, seed), from the distributions in
 // population_sampler.cc; a calibrated preset gives its wide twin's avatar (PopulationSampler
