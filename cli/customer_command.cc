@@ -1,4 +1,5 @@
-// fitbase customer project|fit|outfit: the fit service's calls as a shop makes them.
+// fitbase customer project|from-measurements|fit|outfit: the fit service's calls as a shop
+// makes them.
 #include <filesystem>
 #include <iostream>
 
@@ -8,8 +9,11 @@
 #include "cli/cli_context.h"
 #include "cli/customer_client.h"
 #include "cli/remote_flags.h"
+#include "core/body_measurements.h"
+#include "core/body_model.h"
 #include "core/file_util.h"
 #include "core/garment_obj.h"
+#include "core/obj_io.h"
 #include "core/status_macros.h"
 #include "fitbase/v1/fit_service.grpc.pb.h"
 #include "pipeline/avatar_file.h"
@@ -27,6 +31,7 @@ namespace {
 struct CustomerFlags {
   RemoteFlags remote{.address = "127.0.0.1:7402", .api_key_file = {}, .timeout_seconds = 30};
   std::string avatar;
+  std::string measurements;
   std::string population = "women";
   bool draco = false;
   std::string weights;
@@ -58,6 +63,47 @@ absl::Status RunProject(const CustomerFlags& flags) {
     std::cout << "\n  out of distribution: " << reason;
   }
   std::cout << "\nwrote " << flags.out << "\n";
+  return absl::OkStatus();
+}
+
+absl::Status RunFromMeasurements(const CliContext& context, const CustomerFlags& flags) {
+  ASSIGN_OR_RETURN(const std::string json, core::ReadFileToString(flags.measurements));
+  v1::AvatarFromMeasurementsRequest request;
+  if (absl::Status parsed = proto::ParseJson(json, request.mutable_measurements());
+      !parsed.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat(flags.measurements, ": ", parsed.message()));
+  }
+  request.set_population(flags.population);
+  // The format carries no faces: every body of the topology has those of base.obj's body group.
+  ASSIGN_OR_RETURN(const core::Mesh base, core::ReadObj(ResolveDataDir(context) / "base.obj"));
+  auto stub = v1::FitService::NewStub(rpc::OpenChannel(flags.remote.address));
+  ASSIGN_OR_RETURN(std::unique_ptr<grpc::ClientContext> call,
+                   NewCallContext(flags.remote, absl::Seconds(flags.remote.timeout_seconds)));
+  v1::AvatarFromMeasurementsResponse response;
+  RETURN_IF_ERROR(
+      rpc::FromGrpcStatus(stub->AvatarFromMeasurements(call.get(), request, &response)));
+  ASSIGN_OR_RETURN(core::Positions positions, proto::AvatarPositions(response.avatar()));
+  const core::Mesh avatar{.topology_id = std::string(core::kBodyTopologyId),
+                          .positions = std::move(positions),
+                          .faces = core::BodyFacesOf(base.faces)};
+  RETURN_IF_ERROR(core::WriteObj(flags.out, avatar));
+  if (!flags.weights.empty()) {
+    RETURN_IF_ERROR(core::WriteFileAtomically(flags.weights, proto::ToJson(response.weights())));
+  }
+  for (const v1::MeasurementResidual& residual : response.residuals()) {
+    const absl::StatusOr<core::Measurement> measurement =
+        core::ParseMeasurement(residual.name());
+    const char* unit = measurement.ok() && core::IsMass(*measurement) ? "kg" : "cm";
+    std::cout << absl::StrFormat("%s %.1f %s -> %.1f %s%s\n", residual.name(),
+                                 residual.given(), unit, residual.reached(), unit,
+                                 residual.within_allowance() ? "" : "  (outside the allowance)");
+  }
+  for (const std::string& reason : response.reasons()) {
+    std::cout << "out of distribution: " << reason << "\n";
+  }
+  std::cout << absl::StrFormat("wrote %s (basis %.12s, %d weights)\n", flags.out,
+                               response.weights().basis_id(),
+                               response.weights().weights_size());
   return absl::OkStatus();
 }
 
@@ -127,6 +173,23 @@ void AddCustomerCommands(CLI::App& app, CliContext& context) {
   project->add_option("--out", flags->out, "Weights JSON")->required();
   project->callback(
       [&context, flags] { context.action = [flags] { return RunProject(*flags); }; });
+
+  CLI::App* from_measurements = customer->add_subcommand(
+      "from-measurements", "Make the avatar of a customer's typed measurements (cm, kg)");
+  AddRemoteOptions(from_measurements, flags->remote, "--server");
+  from_measurements->add_option("--population", flags->population,
+                                "The basis's population (women)");
+  from_measurements
+      ->add_option("--measurements", flags->measurements,
+                   "JSON: any of the keys `avatar measure --json` prints, stature_cm at least")
+      ->required();
+  from_measurements->add_option("--out", flags->out, "Avatar OBJ (13,380 vertices, meters)")
+      ->required();
+  from_measurements->add_option("--weights", flags->weights,
+                                "Also write the weights JSON (what `customer fit` reads)");
+  from_measurements->callback([&context, flags] {
+    context.action = [&context, flags] { return RunFromMeasurements(context, *flags); };
+  });
 
   CLI::App* fit = customer->add_subcommand("fit", "Fit one garment size to the weights");
   AddRemoteOptions(fit, flags->remote, "--server");

@@ -11,7 +11,7 @@ scripts/setup.sh
 fitbase=build/fitbase
 out=demo-out
 training=300
-holdout=30
+holdout=50
 rm -rf "$out"
 mkdir -p "$out"
 
@@ -23,6 +23,12 @@ for preset in women men all; do
     tee "$out/$preset/build.txt"
   "$fitbase" basis eval --basis "$out/$preset/avatars.fbb" --population "$out/$preset/holdout" |
     tee "$out/$preset/holdout.txt"
+done
+# Bodies from measurements: every held-out avatar measured and fed back (README "An avatar
+# from measurements").
+for preset in women men; do
+  "$fitbase" basis eval-measurements --basis "$out/$preset/avatars.fbb" \
+    --population "$out/$preset/holdout" | tee "$out/$preset/measurements.txt"
 done
 
 # What a later step consumes: one customer's weights, and the example avatars a garment is
@@ -86,6 +92,20 @@ for preset in women men; do
     done
     "$fitbase" customer outfit --server "$fit" --weights "$c-weights.json" \
       --garments "${garment_id[$preset]}" --out "$c-outfit"
+    # The second customer has no scan: a tailor's five measurements of held-out avatar 1,
+    # typed into the shop (cm, kg), make the body its garments are fitted to.
+    m="$out/customer/$preset-2"
+    echo "== $preset customer 2 (typed measurements of held-out avatar 1): $g"
+    "$fitbase" avatar measure --json "$out/$preset/holdout/avatar-00001.obj" |
+      grep -oE '"(stature_cm|weight_kg|bust_girth_cm|waist_girth_cm|hip_girth_cm)": [0-9.]+' |
+      paste -sd, - | sed 's/^/{/; s/$/}/' > "$m-measurements.json"
+    cat "$m-measurements.json"
+    "$fitbase" customer from-measurements --server "$fit" --population "$preset" \
+      --measurements "$m-measurements.json" --out "$m-avatar.obj" --weights "$m-weights.json"
+    for size in M XL; do
+      "$fitbase" customer fit --server "$fit" --weights "$m-weights.json" \
+        --garment "${garment_id[$preset]}" --size "$size" --out "$m-$g-$size.obj"
+    done
   } | tee -a "$out/customer/summary.txt"
 done
 kill "$serve_pid"
@@ -119,6 +139,12 @@ for preset in women men all; do
   printf '%-7s %11s %10s %14s %14s %15s\n' "$preset" "$components" "$variance" "$train" "$heldout" "$worst"
 done
 echo
+echo "== Bodies from measurements: $holdout held-out avatars measured and fed back (see $out/*/measurements.txt)"
+for preset in women men; do
+  echo "$preset:"
+  grep -E '^\|' "$out/$preset/measurements.txt"
+done
+echo
 echo "== Drapes of $garment on $customer (see $out/drapes.txt)"
 grep -E "^(drape|geometric)" "$out/drapes.txt" | sed -E 's/ \([^)]*\.obj\)//'
 echo
@@ -129,4 +155,6 @@ echo
 echo "Outputs in $out/: populations (OBJ + params.jsonl), bases (*.fbb), all/customer-weights.json,"
 echo "all/example-pc0-*.obj, $garment.fbg, customer.obj and its drapes $garment-{S,M,XL,geometric}.obj (+ .json reports);"
 echo "store/ (avatar bases, garments, drapes, clothing bases, builds), api-keys, serve.log;"
-echo "customer/: per population the avatar, its weights, the fitted garments (M, XL), the outfit, summary.txt"
+echo "customer/: per population the avatar, its weights, the fitted garments (M, XL), the outfit, summary.txt;"
+echo "  the second customer's typed measurements, the body made from them, its weights and fitted garments (*-2-*);"
+echo "women/measurements.txt, men/measurements.txt: bodies from measurements of the held-out avatars"

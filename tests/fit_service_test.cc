@@ -1,18 +1,23 @@
 // The fit service end to end: a real coordinator and workers build the small catalogue's
 // clothing basis into a real RocksDB store, and a real fit server on 127.0.0.1 answers a
 // customer's calls, compared with the local `fitbase fit`.
+#include <cmath>
 #include <thread>
 
 #include "absl/strings/str_format.h"
 
 #include "cli/customer_client.h"
+#include "core/body_measurements.h"
+#include "core/body_model.h"
 #include "core/garment_obj.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "pipeline/avatar_file.h"
+#include "pipeline/avatar_from_measurements.h"
 #include "proto/avatar_codec.h"
 #include "proto/draco_codec.h"
+#include "proto/json_codec.h"
 #include "services/build/coordinator_server.h"
 #include "services/fit/fit_server.h"
 #include "services/rpc/clock.h"
@@ -108,6 +113,37 @@ class FitServiceTest : public ::testing::Test {
                            const std::string& key = TestKeys::kCustomer) {
     v1::FittedGarment fitted;
     return stub_->FitGarment(Call(key).get(), request, &fitted).error_code();
+  }
+
+  // Five measurements of population avatar `index`, to a millimetre as a person types them:
+  // a body the basis's population holds.
+  v1::TypedMeasurements MeasurementsOf(int index) {
+    auto avatar = pipeline::ReadAvatarObj(SmallCatalogue() / "pop" /
+                                          absl::StrFormat("avatar-%05d.obj", index));
+    EXPECT_TRUE(avatar.ok());
+    auto measured = core::MeasureBody(*avatar);
+    EXPECT_TRUE(measured.ok()) << measured.status();
+    const v1::TypedMeasurements all = pipeline::MeasurementsToProto(*measured);
+    const auto typed = [](double value) { return std::round(10 * value) / 10; };
+    v1::TypedMeasurements five;
+    five.set_stature_cm(typed(all.stature_cm()));
+    five.set_weight_kg(typed(all.weight_kg()));
+    five.set_bust_girth_cm(typed(all.bust_girth_cm()));
+    five.set_waist_girth_cm(typed(all.waist_girth_cm()));
+    five.set_hip_girth_cm(typed(all.hip_girth_cm()));
+    return five;
+  }
+
+  grpc::Status FromMeasurements(const v1::TypedMeasurements& measurements,
+                                v1::AvatarFromMeasurementsResponse* response,
+                                const std::string& population = "women",
+                                v1::PositionsEncoding encoding = v1::POSITIONS_ENCODING_DRACO,
+                                const std::string& key = TestKeys::kCustomer) {
+    v1::AvatarFromMeasurementsRequest request;
+    *request.mutable_measurements() = measurements;
+    request.set_population(population);
+    request.set_encoding(encoding);
+    return stub_->AvatarFromMeasurements(Call(key).get(), request, response);
   }
 
   rpc::ManualClock clock_{absl::FromUnixSeconds(1800000000)};
@@ -281,6 +317,157 @@ TEST_F(FitServiceTest, BadInputGetsClearCodesWhileOthersAreServed) {
   other.join();
   EXPECT_GT(served.load(), 0);
   EXPECT_EQ(failed.load(), 0);
+}
+
+TEST_F(FitServiceTest, AvatarFromMeasurementsMakesABodyThatMeasuresAsGiven) {
+  const v1::TypedMeasurements given = MeasurementsOf(3);
+  v1::AvatarFromMeasurementsResponse made;
+  const grpc::Status status = FromMeasurements(given, &made);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_EQ(made.weights().basis_id(), garment_.avatar_basis_id());
+  EXPECT_EQ(made.weights().weights_size(), static_cast<int>(SmallBasis().component_count()));
+  ASSERT_TRUE(made.avatar().positions().has_draco());
+  auto positions = proto::AvatarPositions(made.avatar());
+  ASSERT_TRUE(positions.ok()) << positions.status();
+  EXPECT_EQ(positions->rows(), core::kBodyVertexCount);
+
+  std::vector<std::string> names;
+  for (const v1::MeasurementResidual& residual : made.residuals()) names.push_back(residual.name());
+  EXPECT_EQ(names, (std::vector<std::string>{"stature", "weight", "bust_girth", "waist_girth",
+                                             "hip_girth"}));
+  ASSERT_EQ(made.residuals_size(), 5);
+  const v1::MeasurementResidual& stature = made.residuals(0);
+  EXPECT_DOUBLE_EQ(stature.given(), given.stature_cm());
+  EXPECT_NEAR(stature.reached(), given.stature_cm(), 1.0);
+  EXPECT_DOUBLE_EQ(made.residuals(1).given(), given.weight_kg());
+  EXPECT_EQ(made.out_of_distribution(), made.reasons_size() > 0);
+
+  // The avatar on the wire is the body the residuals describe, within Draco's 0.4 mm.
+  auto faces = pipeline::ReadAvatarObj(SmallCatalogue() / "pop" / "avatar-00003.obj");
+  ASSERT_TRUE(faces.ok());
+  core::Mesh body = *std::move(faces);
+  body.positions = *positions;
+  auto measured = core::MeasureBody(body);
+  ASSERT_TRUE(measured.ok()) << measured.status();
+  EXPECT_NEAR(100 * (*measured)[static_cast<int>(core::Measurement::kStature)], stature.reached(),
+              0.1);
+
+  // Raw positions on request; the same request gives the same bytes.
+  v1::AvatarFromMeasurementsResponse raw;
+  ASSERT_TRUE(FromMeasurements(given, &raw, "women", v1::POSITIONS_ENCODING_RAW).ok());
+  EXPECT_TRUE(raw.avatar().positions().has_raw());
+  v1::AvatarFromMeasurementsResponse again;
+  ASSERT_TRUE(FromMeasurements(given, &again).ok());
+  EXPECT_EQ(proto::SerializeDeterministically(again), proto::SerializeDeterministically(made));
+
+  // The weights fit the tenant's garments like projected ones.
+  v1::FittedGarment fitted;
+  const grpc::Status fit =
+      stub_->FitGarment(Call(TestKeys::kCustomer).get(), FitRequest(made.weights()), &fitted);
+  EXPECT_TRUE(fit.ok()) << fit.error_message();
+}
+
+TEST_F(FitServiceTest, MeasurementsNoBodyOfThePopulationHasAreFlaggedNotRefused) {
+  v1::TypedMeasurements given;
+  given.set_stature_cm(150);
+  given.set_hip_girth_cm(160);
+  v1::AvatarFromMeasurementsResponse made;
+  const grpc::Status status = FromMeasurements(given, &made);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_TRUE(made.out_of_distribution());
+  EXPECT_GT(made.reasons_size(), 0);
+  EXPECT_EQ(made.residuals_size(), 2);
+  auto positions = proto::AvatarPositions(made.avatar());
+  ASSERT_TRUE(positions.ok()) << positions.status();
+  EXPECT_EQ(positions->rows(), core::kBodyVertexCount);
+}
+
+TEST_F(FitServiceTest, BadMeasurementsAreInvalidArgumentNamingTheField) {
+  const v1::TypedMeasurements valid = MeasurementsOf(1);
+  v1::TypedMeasurements no_stature = valid;
+  no_stature.clear_stature_cm();
+  v1::TypedMeasurements nan_stature = valid;
+  nan_stature.set_stature_cm(std::nan(""));
+  v1::TypedMeasurements tiny = valid;
+  tiny.set_stature_cm(40);
+  v1::TypedMeasurements negative_waist = valid;
+  negative_waist.set_waist_girth_cm(-70);
+  const std::vector<std::pair<v1::TypedMeasurements, std::string>> cases = {
+      {v1::TypedMeasurements(), "stature_cm"},
+      {no_stature, "stature_cm"},
+      {nan_stature, "stature_cm"},
+      {tiny, "stature_cm"},
+      {negative_waist, "waist_girth_cm"},
+  };
+  for (const auto& [measurements, field] : cases) {
+    v1::AvatarFromMeasurementsResponse ignored;
+    const grpc::Status status = FromMeasurements(measurements, &ignored);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << field;
+    EXPECT_THAT(status.error_message(), HasSubstr(field));
+  }
+  v1::AvatarFromMeasurementsResponse ignored;
+  EXPECT_EQ(FromMeasurements(valid, &ignored, "giants").error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_EQ(FromMeasurements(valid, &ignored, "").error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+  // Another tenant's basis does not exist for the rival's customers.
+  EXPECT_EQ(FromMeasurements(valid, &ignored, "women", v1::POSITIONS_ENCODING_DRACO,
+                             TestKeys::kRivalCustomer)
+                .error_code(),
+            grpc::StatusCode::NOT_FOUND);
+  EXPECT_EQ(FromMeasurements(valid, &ignored, "women", v1::POSITIONS_ENCODING_DRACO,
+                             TestKeys::kWorker)
+                .error_code(),
+            grpc::StatusCode::PERMISSION_DENIED);
+}
+
+TEST_F(FitServiceTest, CustomerFromMeasurementsWritesTheAvatarAndItsWeights) {
+  const v1::TypedMeasurements given = MeasurementsOf(2);
+  const std::filesystem::path key = dir_ / "customer.key";
+  ASSERT_TRUE(core::WriteFileAtomically(key, absl::StrCat(TestKeys::kCustomer, "\n")).ok());
+  const std::filesystem::path json = dir_ / "m.json";
+  ASSERT_TRUE(core::WriteFileAtomically(
+                  json, absl::StrFormat("{\"stature_cm\": %.1f, \"weight_kg\": %.1f, "
+                                        "\"hip_girth_cm\": %.1f}\n",
+                                        given.stature_cm(), given.weight_kg(),
+                                        given.hip_girth_cm()))
+                  .ok());
+  const std::string server = absl::StrCat("127.0.0.1:", fit_->port());
+  const std::vector<std::string> call = {"customer", "from-measurements", "--server", server,
+                                         "--api-key-file", key.string(), "--population", "women"};
+  std::vector<std::string> args = call;
+  args.insert(args.end(), {"--measurements", json.string(), "--out", (dir_ / "a.obj").string(),
+                           "--weights", (dir_ / "w.json").string()});
+  const Result run = RunFitbase(args);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr(absl::StrFormat("stature %.1f cm ->", given.stature_cm())));
+  EXPECT_THAT(run.out, HasSubstr("hip_girth"));
+
+  auto avatar = pipeline::ReadAvatarObj(dir_ / "a.obj");
+  ASSERT_TRUE(avatar.ok()) << avatar.status();
+  auto population = pipeline::ReadAvatarObj(SmallCatalogue() / "pop" / "avatar-00002.obj");
+  ASSERT_TRUE(population.ok());
+  EXPECT_EQ(avatar->faces, population->faces);
+  auto weights_json = core::ReadFileToString(dir_ / "w.json");
+  ASSERT_TRUE(weights_json.ok());
+  v1::AvatarWeights weights;
+  ASSERT_TRUE(proto::ParseJson(*weights_json, &weights).ok()) << *weights_json;
+  v1::TypedMeasurements sent;
+  sent.set_stature_cm(given.stature_cm());
+  sent.set_weight_kg(given.weight_kg());
+  sent.set_hip_girth_cm(given.hip_girth_cm());
+  v1::AvatarFromMeasurementsResponse made;
+  ASSERT_TRUE(FromMeasurements(sent, &made).ok());
+  EXPECT_EQ(proto::SerializeDeterministically(weights),
+            proto::SerializeDeterministically(made.weights()));
+
+  // A misspelt key is refused, not dropped.
+  ASSERT_TRUE(core::WriteFileAtomically(json, "{\"statue_cm\": 170}\n").ok());
+  args = call;
+  args.insert(args.end(), {"--measurements", json.string(), "--out", (dir_ / "b.obj").string()});
+  const Result misspelt = RunFitbase(args);
+  EXPECT_NE(misspelt.exit_code, 0);
+  EXPECT_THAT(misspelt.err, HasSubstr("statue_cm"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "b.obj"));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "absl/time/clock.h"
+#include "core/body_measurements.h"
 #include "core/clothing_model.h"
 #include "core/status_macros.h"
 #include "proto/avatar_codec.h"
@@ -127,7 +128,35 @@ absl::StatusOr<std::shared_ptr<const ServedGarment>> GarmentForWeights(
   return garment;
 }
 
+// Centimetres, or kilograms for weight: the units the measurements were typed in.
+double Typed(core::Measurement measurement, double value) {
+  return core::IsMass(measurement) ? value : 100 * value;
+}
+
 }  // namespace
+
+absl::StatusOr<std::shared_ptr<const pipeline::MeasurementModel>> FitService::MeasurementModelFor(
+    const pipeline::LoadedAvatarBasis& basis) {
+  const std::string& id = basis.message.id();
+  const auto cached = [&]() -> std::shared_ptr<const pipeline::MeasurementModel> {
+    std::lock_guard<std::mutex> lock(models_mutex_);
+    const auto it = models_.find(id);
+    return it == models_.end() ? nullptr : it->second;
+  };
+  if (auto model = cached()) return model;
+  std::lock_guard<std::mutex> building(build_mutex_);
+  // Another call may have built it while this one waited.
+  if (auto model = cached()) return model;
+  ASSIGN_OR_RETURN(pipeline::MeasurementModel built, pipeline::MeasurementModel::Build(basis));
+  auto model = std::make_shared<const pipeline::MeasurementModel>(std::move(built));
+  std::lock_guard<std::mutex> lock(models_mutex_);
+  if (!models_.empty() && static_cast<int>(models_.size()) >= options_.max_measurement_models) {
+    // Any entry: bases in use rarely outnumber the bound, and a rebuild costs only a second.
+    models_.erase(models_.begin());
+  }
+  models_.emplace(id, model);
+  return model;
+}
 
 grpc::ServerUnaryReactor* FitService::ProjectAvatar(grpc::CallbackServerContext* context,
                                                     const v1::ProjectAvatarRequest* request,
@@ -234,6 +263,47 @@ grpc::ServerUnaryReactor* FitService::GetGarmentTopology(
     ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
                      catalog_->Garment(principal.tenant, request->garment_id()));
     *response = garment->topology;
+    return absl::OkStatus();
+  }();
+  return Answer(context, status);
+}
+
+grpc::ServerUnaryReactor* FitService::AvatarFromMeasurements(
+    grpc::CallbackServerContext* context, const v1::AvatarFromMeasurementsRequest* request,
+    v1::AvatarFromMeasurementsResponse* response) {
+  absl::Status status = [&]() -> absl::Status {
+    ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
+    if (request->population().empty()) return absl::InvalidArgumentError("population is empty");
+    ASSIGN_OR_RETURN(const pipeline::MeasurementSet given,
+                     pipeline::MeasurementsFromProto(request->measurements()));
+    ASSIGN_OR_RETURN(std::shared_ptr<const pipeline::LoadedAvatarBasis> basis,
+                     catalog_->CurrentAvatarBasis(principal.tenant, request->population()));
+    ASSIGN_OR_RETURN(std::shared_ptr<const pipeline::MeasurementModel> model,
+                     MeasurementModelFor(*basis));
+    RETURN_IF_ERROR(CheckAlive(*context));
+    ASSIGN_OR_RETURN(pipeline::MeasuredAvatar made,
+                     pipeline::AvatarFromMeasurements(*basis, *model, given));
+
+    v1::AvatarWeights* weights = response->mutable_weights();
+    weights->set_basis_id(basis->message.id());
+    weights->mutable_weights()->Assign(made.weights.data(),
+                                       made.weights.data() + made.weights.size());
+    ASSIGN_OR_RETURN(*response->mutable_avatar(),
+                     proto::AvatarFromPositions(
+                         made.avatar.positions,
+                         /*draco=*/request->encoding() != v1::POSITIONS_ENCODING_RAW));
+    for (const auto& [measurement, wanted, reached] : made.residuals) {
+      v1::MeasurementResidual* residual = response->add_residuals();
+      residual->set_name(std::string(core::MeasurementName(measurement)));
+      residual->set_given(Typed(measurement, wanted));
+      residual->set_reached(Typed(measurement, reached));
+      residual->set_within_allowance(std::abs(reached - wanted) <=
+                                     pipeline::MeasurementAllowance(measurement));
+    }
+    for (std::string& reason : made.out_of_distribution_reasons) {
+      response->add_reasons(std::move(reason));
+    }
+    response->set_out_of_distribution(response->reasons_size() > 0);
     return absl::OkStatus();
   }();
   return Answer(context, status);
