@@ -163,11 +163,7 @@ FreeBody SampleFree(bool woman, Random& random) {
   params.age_years = random.Uniform(25.0, 70.0);
   params.muscle = Draw(random, kMuscle);
   params.proportions = Draw(random, kProportions);
-  std::array<double, 3> shares;
-  random.FlatDirichlet(shares);
-  params.african = shares[0];
-  params.asian = shares[1];
-  params.caucasian = std::max(0.0, 1.0 - shares[0] - shares[1]);
+  DrawEthnicShares(random, params);
   if (woman) {
     params.breast_size = Draw(random, kBreast);
     params.breast_firmness = Draw(random, kBreast);

@@ -122,11 +122,7 @@ BodyParams SampleAdult(bool woman, Random& random) {
   params.height = Draw(random, kHeight);
   params.proportions = Draw(random, kProportions);
 
-  std::array<double, 3> shares;
-  random.FlatDirichlet(shares);
-  params.african = shares[0];
-  params.asian = shares[1];
-  params.caucasian = std::max(0.0, 1.0 - shares[0] - shares[1]);
+  DrawEthnicShares(random, params);
 
   if (woman) {
     params.breast_size = Draw(random, kBreast);
@@ -142,6 +138,14 @@ BodyParams SampleAdult(bool woman, Random& random) {
 }  // namespace
 
 std::span<const ShapeModifier> ShapeModifiers() { return kShapeModifiers; }
+
+void DrawEthnicShares(Random& random, BodyParams& params) {
+  std::array<double, 3> shares;
+  random.FlatDirichlet(shares);
+  params.african = shares[0];
+  params.asian = shares[1];
+  params.caucasian = std::max(0.0, 1.0 - shares[0] - shares[1]);
+}
 
 absl::StatusOr<PopulationPreset> ParsePopulationPreset(absl::string_view name) {
   for (const PresetName& entry : kPresetNames) {

@@ -8,6 +8,7 @@
 
 #include "absl/status/statusor.h"
 #include "core/body_params.h"
+#include "core/random.h"
 
 namespace fitbase::core {
 
@@ -37,6 +38,11 @@ struct ShapeModifier {
 
 // The wide presets' shape modifiers, in the order they are drawn.
 std::span<const ShapeModifier> ShapeModifiers();
+
+// Draws the ethnic shares of `params` from the flat Dirichlet(1, 1, 1), caucasian set to
+// 1 - african - asian (clamped at 0) so the shares sum to 1 exactly enough for
+// ValidateBodyParams.
+void DrawEthnicShares(Random& random, BodyParams& params);
 
 // The wide presets' gender draws: women near 0, men near 1.
 inline constexpr TruncatedNormalSpec kWomenGender = {0.05, 0.05, 0.0, 0.25};
