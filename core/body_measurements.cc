@@ -29,8 +29,9 @@ constexpr std::array<absl::string_view, kMeasurementCount> kNames = {
     "navel_waist_girth",
 };
 
-// Heights of a band are sampled this far apart: a finer step changes the girths of the
-// default bodies by under 0.5 mm.
+// Heights of a band are sampled this far apart. On MakeHuman's default woman and man and three
+// held-out women, a step five times finer moved one bust girth by 3 mm (a breast peaks sharply
+// at the nipple) and every other girth by under 0.5 mm.
 constexpr double kBandStep = 0.0025;
 
 // How far an upper arm section's centroid lies from the midpoint of acromion and olecranon at
