@@ -187,7 +187,8 @@ absl::StatusOr<MeasuredAvatar> AvatarFromMeasurements(const LoadedAvatarBasis& b
                           .cwiseMin(limit);
 
   // Gauss-Newton through the real measurement functions with the Mahalanobis prior: each
-  // given measurement counts in units of its allowance, each weight in units of its sigma.
+  // given measurement counts in units of half its allowance (below), each weight in units of
+  // its sigma.
   // The Jacobian starts as the model's linear response and follows the real functions by
   // Broyden updates, one body measured per iteration.
   auto measure = [&](const Eigen::VectorXd& weights) -> absl::StatusOr<Eigen::VectorXd> {
