@@ -38,6 +38,7 @@ void AddBuildCommands(CLI::App& app, CliContext& context);
 void AddCustomerCommands(CLI::App& app, CliContext& context);
 void AddLoadtestCommand(CLI::App& app, CliContext& context);
 void AddStoreCommands(CLI::App& app, CliContext& context);
+void AddRenderCommand(CLI::App& app, CliContext& context);
 
 }  // namespace fitbase::cli
 

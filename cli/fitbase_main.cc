@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   fitbase::cli::AddCustomerCommands(app, context);
   fitbase::cli::AddLoadtestCommand(app, context);
   fitbase::cli::AddStoreCommands(app, context);
+  fitbase::cli::AddRenderCommand(app, context);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

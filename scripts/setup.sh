@@ -16,7 +16,7 @@ esac
 packages=(
   cmake ninja-build g++ pkg-config ca-certificates curl
   protobuf-compiler libprotobuf-dev protobuf-compiler-grpc libgrpc++-dev libabsl-dev libssl-dev
-  libeigen3-dev librocksdb-dev libdraco-dev libopenmesh-dev libcli11-dev
+  libeigen3-dev librocksdb-dev libdraco-dev libopenmesh-dev libcli11-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 missing=()

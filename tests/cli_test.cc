@@ -97,6 +97,38 @@ TEST(CliTest, AvatarParamsFromFile) {
   EXPECT_TRUE(fs::exists(dir / "a.obj"));
 }
 
+TEST(CliTest, RenderWritesAPngOfTheAvatar) {
+  const fs::path dir = Scratch("render");
+  ASSERT_EQ(RunFitbase({"avatar", "--params", "{}", "--out", (dir / "a.obj").string()}).exit_code,
+            0);
+  const Result r = RunFitbase({"render", "--body", (dir / "a.obj").string(), "--height", "200",
+                               "--out", (dir / "a.png").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("a.png"));
+  const auto png = core::ReadFileToString(dir / "a.png");
+  ASSERT_TRUE(png.ok()) << png.status();
+  ASSERT_GE(png->size(), 24u);
+  EXPECT_EQ(png->substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  const auto be32 = [&](size_t at) {
+    uint32_t v = 0;
+    for (size_t i = at; i < at + 4; ++i) v = (v << 8) | static_cast<uint8_t>((*png)[i]);
+    return v;
+  };
+  // Front (arms out: about 1 m wide) and side (about 0.3 m deep) views of a 1.7 m tall body.
+  EXPECT_GT(be32(16), 150u);
+  EXPECT_LT(be32(16), 250u);
+  EXPECT_EQ(be32(20), 200u);
+
+  const Result small = RunFitbase({"render", "--body", (dir / "a.obj").string(), "--height", "10",
+                                   "--out", (dir / "b.png").string()});
+  EXPECT_NE(small.exit_code, 0);
+  EXPECT_THAT(small.err, HasSubstr("--height"));
+  const Result missing = RunFitbase({"render", "--body", (dir / "none.obj").string(), "--out",
+                                     (dir / "b.png").string()});
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_THAT(missing.err, HasSubstr("--body"));
+}
+
 TEST(CliTest, BadAvatarParamsFailWithTheirName) {
   const fs::path out = Scratch("bad_avatar") / "a.obj";
   struct Case {
