@@ -120,11 +120,6 @@ absl::Status RunImport(const CliContext& context, const ImportFlags& flags) {
   return absl::OkStatus();
 }
 
-// Centimetres and kilograms, as a person reads and types them; meters inside.
-double Displayed(core::Measurement measurement, double value) {
-  return core::IsMass(measurement) ? value : 100 * value;
-}
-
 absl::Status RunMeasure(const MeasureFlags& flags) {
   ASSIGN_OR_RETURN(core::Mesh mesh, pipeline::ReadAvatarObj(flags.obj));
   auto measured = core::MeasureBody(mesh);
@@ -136,16 +131,16 @@ absl::Status RunMeasure(const MeasureFlags& flags) {
     std::string json = "{";
     for (core::Measurement m : core::AllMeasurements()) {
       absl::StrAppendFormat(&json, "%s\"%s_%s\": %.1f", json.size() > 1 ? ", " : "",
-                            core::MeasurementName(m), core::IsMass(m) ? "kg" : "cm",
-                            Displayed(m, (*measured)[static_cast<int>(m)]));
+                            core::MeasurementName(m), core::TypedUnit(m),
+                            core::InTypedUnit(m, (*measured)[static_cast<int>(m)]));
     }
     std::cout << json << "}\n";
     return absl::OkStatus();
   }
   for (core::Measurement m : core::AllMeasurements()) {
     std::cout << absl::StrFormat("%-16s %7.1f %s\n", core::MeasurementName(m),
-                                 Displayed(m, (*measured)[static_cast<int>(m)]),
-                                 core::IsMass(m) ? "kg" : "cm");
+                                 core::InTypedUnit(m, (*measured)[static_cast<int>(m)]),
+                                 core::TypedUnit(m));
   }
   return absl::OkStatus();
 }
@@ -174,11 +169,11 @@ absl::Status RunFromMeasurements(const FromMeasurementsFlags& flags) {
     RETURN_IF_ERROR(core::WriteFileAtomically(flags.weights, proto::ToJson(weights) + "\n"));
   }
   for (const auto& [measurement, given_value, reached] : made.residuals) {
-    const double unit = core::IsMass(measurement) ? 1.0 : 100.0;
-    const char* name = core::IsMass(measurement) ? "kg" : "cm";
+    const absl::string_view unit = core::TypedUnit(measurement);
     std::cout << absl::StrFormat(
         "%-18s %7.1f %s given, %7.1f %s reached%s\n", core::MeasurementName(measurement),
-        unit * given_value, name, unit * reached, name,
+        core::InTypedUnit(measurement, given_value), unit,
+        core::InTypedUnit(measurement, reached), unit,
         std::abs(reached - given_value) <= pipeline::MeasurementAllowance(measurement)
             ? ""
             : "  (outside ISO 20685-1's allowance)");

@@ -93,7 +93,7 @@ absl::Status RunFromMeasurements(const CliContext& context, const CustomerFlags&
   for (const v1::MeasurementResidual& residual : response.residuals()) {
     const absl::StatusOr<core::Measurement> measurement =
         core::ParseMeasurement(residual.name());
-    const char* unit = measurement.ok() && core::IsMass(*measurement) ? "kg" : "cm";
+    const absl::string_view unit = measurement.ok() ? core::TypedUnit(*measurement) : "cm";
     std::cout << absl::StrFormat("%s %.1f %s -> %.1f %s%s\n", residual.name(),
                                  residual.given(), unit, residual.reached(), unit,
                                  residual.within_allowance() ? "" : "  (outside the allowance)");

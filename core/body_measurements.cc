@@ -111,6 +111,12 @@ absl::StatusOr<Measurement> ParseMeasurement(absl::string_view name) {
 
 bool IsMass(Measurement measurement) { return measurement == Measurement::kWeight; }
 
+absl::string_view TypedUnit(Measurement measurement) { return IsMass(measurement) ? "kg" : "cm"; }
+
+double InTypedUnit(Measurement measurement, double value) {
+  return IsMass(measurement) ? value : 100 * value;
+}
+
 std::span<const Measurement> AllMeasurements() { return kAll; }
 
 double ConvexHullPerimeter(std::span<const Eigen::Vector2d> points) {

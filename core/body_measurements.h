@@ -43,6 +43,10 @@ absl::string_view MeasurementName(Measurement measurement);
 absl::StatusOr<Measurement> ParseMeasurement(absl::string_view name);
 // True for weight (kg), false for the lengths and girths (m).
 bool IsMass(Measurement measurement);
+// The unit a person reads and types a measurement in: "kg" for weight, "cm" for the others.
+absl::string_view TypedUnit(Measurement measurement);
+// `value` (m, or kg for weight) in TypedUnit.
+double InTypedUnit(Measurement measurement, double value);
 std::span<const Measurement> AllMeasurements();
 
 using BodyMeasurements = std::array<double, kMeasurementCount>;  // By Measurement index.

@@ -43,13 +43,7 @@ constexpr Plausible kPlausible[] = {
 };
 
 std::string FieldName(core::Measurement measurement) {
-  return absl::StrCat(core::MeasurementName(measurement),
-                      core::IsMass(measurement) ? "_kg" : "_cm");
-}
-
-// Typed units (cm, kg) per stored unit (m, kg).
-double TypedPerStored(core::Measurement measurement) {
-  return core::IsMass(measurement) ? 1.0 : 100.0;
+  return absl::StrCat(core::MeasurementName(measurement), "_", core::TypedUnit(measurement));
 }
 
 }  // namespace
@@ -87,9 +81,9 @@ absl::StatusOr<MeasurementSet> MeasurementsFromProto(const v1::TypedMeasurements
     if (value < range.low || value > range.high) {
       return absl::InvalidArgumentError(absl::StrFormat(
           "%s is %g; an adult's is %g to %g %s", name, value, range.low, range.high,
-          core::IsMass(range.measurement) ? "kg" : "cm"));
+          core::TypedUnit(range.measurement)));
     }
-    set.emplace_back(range.measurement, value / TypedPerStored(range.measurement));
+    set.emplace_back(range.measurement, value / core::InTypedUnit(range.measurement, 1.0));
   }
   if (set.empty()) return absl::InvalidArgumentError("no measurements given; stature_cm at least");
   if (std::none_of(set.begin(), set.end(), [](const auto& entry) {
@@ -107,15 +101,18 @@ v1::TypedMeasurements MeasurementsToProto(const core::BodyMeasurements& measurem
     const double value = measurements[static_cast<int>(m)];
     if (!std::isfinite(value)) continue;
     reflection->SetDouble(&typed, typed.GetDescriptor()->FindFieldByName(FieldName(m)),
-                          value * TypedPerStored(m));
+                          core::InTypedUnit(m, value));
   }
   return typed;
 }
 
 absl::StatusOr<MeasurementModel> MeasurementModel::Build(const LoadedAvatarBasis& basis) {
-  ASSIGN_OR_RETURN(const core::Mesh mean, proto::MeshFromProto(basis.message.mean()));
+  ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis.message.mean()));
   MeasurementModel model;
   model.triangles_ = core::Triangulate(mean.faces);
+  model.topology_ = {.topology_id = std::move(mean.topology_id),
+                     .positions = {},
+                     .faces = std::move(mean.faces)};
   const int n = static_cast<int>(basis.pca.variances.size());
   const Eigen::VectorXd sigma = basis.pca.variances.cwiseSqrt();
 
@@ -242,20 +239,18 @@ absl::StatusOr<MeasuredAvatar> AvatarFromMeasurements(const LoadedAvatarBasis& b
 
   MeasuredAvatar result;
   result.weights = w;
-  ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis.message.mean()));
   const Eigen::VectorXd x = core::ReconstructFromWeights(basis.pca, w);
-  result.avatar.topology_id = mean.topology_id;
+  result.avatar = model.topology();
   result.avatar.positions = Eigen::Map<const core::Positions>(x.data(), x.size() / 3, 3);
-  result.avatar.faces = std::move(mean.faces);
   for (int i = 0; i < s; ++i) {
     result.residuals.emplace_back(which[i], target(i), values(i));
     if (std::abs(values(i) - target(i)) > allowance(i)) {
-      const double unit = TypedPerStored(which[i]);
-      const char* name = core::IsMass(which[i]) ? "kg" : "cm";
+      const absl::string_view unit = core::TypedUnit(which[i]);
       result.out_of_distribution_reasons.push_back(absl::StrFormat(
           "%s: %.1f %s given, the nearest body of the population has %.1f %s (allowance %.1f)",
-          core::MeasurementName(which[i]), unit * target(i), name, unit * values(i), name,
-          unit * allowance(i)));
+          core::MeasurementName(which[i]), core::InTypedUnit(which[i], target(i)), unit,
+          core::InTypedUnit(which[i], values(i)), unit,
+          core::InTypedUnit(which[i], allowance(i))));
     }
   }
   for (int k = 0; k < n; ++k) {

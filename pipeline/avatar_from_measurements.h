@@ -40,12 +40,15 @@ class MeasurementModel {
   const Eigen::MatrixXd& response() const { return response_; }
   // kMeasurementCount: the spread of each measurement the weights do not explain.
   const Eigen::VectorXd& residual_sd() const { return residual_sd_; }
+  // The basis's mean avatar without its positions: the topology every made body shares.
+  const core::Mesh& topology() const { return topology_; }
   const core::Triangles& triangles() const { return triangles_; }
 
  private:
   Eigen::VectorXd mean_;
   Eigen::MatrixXd response_;
   Eigen::VectorXd residual_sd_;
+  core::Mesh topology_;
   core::Triangles triangles_;
 };
 

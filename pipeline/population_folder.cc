@@ -135,7 +135,7 @@ std::string CalibrationTable(const std::vector<core::CalibratedAvatar>& avatars)
                           "|---|---|---|---|---|---|---|---|\n",
                           survey->name, group.size());
     for (int k = 0; k < kN; ++k) {
-      const double unit = core::IsMass(core::kSurveyMeasurements[k]) ? 1.0 : 100.0;
+      const double unit = core::InTypedUnit(core::kSurveyMeasurements[k], 1.0);
       double sum = 0, squares = 0;
       int within = 0;
       for (const core::CalibratedAvatar* avatar : group) {

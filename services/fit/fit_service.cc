@@ -128,11 +128,6 @@ absl::StatusOr<std::shared_ptr<const ServedGarment>> GarmentForWeights(
   return garment;
 }
 
-// Centimetres, or kilograms for weight: the units the measurements were typed in.
-double Typed(core::Measurement measurement, double value) {
-  return core::IsMass(measurement) ? value : 100 * value;
-}
-
 }  // namespace
 
 absl::StatusOr<std::shared_ptr<const pipeline::MeasurementModel>> FitService::MeasurementModelFor(
@@ -295,8 +290,8 @@ grpc::ServerUnaryReactor* FitService::AvatarFromMeasurements(
     for (const auto& [measurement, wanted, reached] : made.residuals) {
       v1::MeasurementResidual* residual = response->add_residuals();
       residual->set_name(std::string(core::MeasurementName(measurement)));
-      residual->set_given(Typed(measurement, wanted));
-      residual->set_reached(Typed(measurement, reached));
+      residual->set_given(core::InTypedUnit(measurement, wanted));
+      residual->set_reached(core::InTypedUnit(measurement, reached));
       residual->set_within_allowance(std::abs(reached - wanted) <=
                                      pipeline::MeasurementAllowance(measurement));
     }
