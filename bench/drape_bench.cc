@@ -10,6 +10,13 @@
 // largest coordinate: the worst vertex, the 99th percentile and the share over 1 mm), and how
 // far doubling the iteration budget moves the result, and the second difference at d / 2 with
 // how the vertices over 1 mm scale (steady, like kinks, or smooth).
+// --supports drapes each garment (in --sizes) onto its wearers' mean avatar, their five bench
+// bodies and the extremes of the calibrated population (the tallest, shortest and heaviest
+// --extremes of 500 sampled avatars), and prints where the waistband, collar and leg hems sit
+// by the body's landmarks against their place on the mean avatar, with a hem table.
+// --speed drapes each garment in size M on its wearers' average body with Eigen's simplicial
+// LDL^T and CHOLMOD's supernodal LL^T, one after the other in one run, with the ratio, how far
+// apart the results are, and whether a repeat of the supernodal drape is bitwise equal.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -26,10 +33,13 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_replace.h"
 #include "absl/strings/str_split.h"
+#include "core/body_measurements.h"
 #include "core/body_model.h"
+#include "core/population_calibration.h"
 #include "pipeline/garment_importer.h"
 #include "pipeline/progress_reporter.h"
 #include "proto/avatar_basis_codec.h"
+#include "proto/mesh_codec.h"
 #include "proto/message_file.h"
 #include "workers/fit_metrics.h"
 #include "workers/garment_drape.h"
@@ -110,7 +120,7 @@ void WriteRows(const std::string& path, const std::vector<v1::Garment>& imported
 // Every garment in every size on every body, `jobs` drapes side by side.
 void PrintPopulationTable(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
                           const std::vector<std::string>& size_list, int jobs,
-                          const std::string& rows_path) {
+                          const std::string& rows_path, const workers::ClothSettings& settings) {
   std::vector<DrapeTask> tasks;
   for (size_t g = 0; g < imported.size(); ++g)
     for (size_t b = 0; b < bodies.size(); ++b)
@@ -122,8 +132,8 @@ void PrintPopulationTable(const std::vector<v1::Garment>& imported, const std::v
                                       pipeline::StderrIsTerminal());
   ForEachSideBySide(tasks.size(), jobs, [&](size_t i) {
     const DrapeTask& t = tasks[i];
-    auto fit =
-        workers::DrapeGarment(imported[t.garment], size_list[t.size], bodies[t.body].positions);
+    auto fit = workers::DrapeGarment(imported[t.garment], size_list[t.size],
+                                     bodies[t.body].positions, settings);
     if (fit.ok())
       reports[i] = fit->report;
     else
@@ -249,7 +259,8 @@ Scaling ClassifyScaling(const std::vector<double>& full, const std::vector<doubl
 // a men's suit on a woman is a poor fit whose folds say little about the solver. The second
 // difference is also taken at half the step, to tell kinks from jumps (ClassifyScaling).
 void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
-                     const v1::AvatarBasis& basis, int jobs) {
+                     const v1::AvatarBasis& basis, int jobs,
+                     const workers::ClothSettings& settings) {
   auto pca = proto::PcaBasisFromProto(basis);
   const Eigen::VectorXd step = 0.1 * std::sqrt(pca->variances(0)) * pca->components.col(0);
   const core::Positions delta = Eigen::Map<const core::Positions>(step.data(), step.size() / 3, 3);
@@ -277,7 +288,7 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
     std::vector<Run> runs = {{b, {}},    {b + delta, {}},       {b - delta, {}},
                              {b, twice}, {b + 0.5 * delta, {}}, {b - 0.5 * delta, {}}};
     ForEachSideBySide(runs.size(), jobs, [&](size_t i) {
-      runs[i].fit = workers::DrapeGarment(g, "M", runs[i].body, {}, runs[i].schedule);
+      runs[i].fit = workers::DrapeGarment(g, "M", runs[i].body, settings, runs[i].schedule);
     });
     if (const auto failed =
             std::find_if(runs.begin(), runs.end(), [](const Run& r) { return !r.fit.ok(); });
@@ -304,11 +315,217 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
   }
 }
 
+bool IsMenswear(const v1::Garment& garment) { return absl::StartsWith(garment.name(), "male_"); }
+
+// The tallest, shortest and heaviest `tail` of `count` avatars of a calibrated preset (seed 1),
+// by the measurements the sampler calibrated them to.
+std::vector<Body> ExtremeBodies(const core::BodyModel& model,
+                                const core::PopulationSampler& sampler,
+                                core::PopulationPreset preset, int count, int tail) {
+  struct Sampled {
+    int index;
+    double stature, weight;
+  };
+  std::vector<Sampled> sampled;
+  pipeline::ProgressReporter progress("avatars", count, std::cerr, pipeline::StderrIsTerminal());
+  for (int i = 0; i < count; ++i) {
+    auto avatar = sampler.SampleCalibrated(preset, 1, static_cast<uint64_t>(i));
+    if (avatar.ok()) sampled.push_back({i, avatar->measured[0], avatar->measured[1]});
+    progress.Update(i + 1);
+  }
+  progress.Finish();
+  const std::string name(core::PopulationPresetName(preset));
+  std::vector<Body> bodies;
+  std::vector<int> taken;
+  auto take = [&](const char* kind, auto better) {
+    std::vector<Sampled> order = sampled;
+    std::stable_sort(order.begin(), order.end(), better);
+    for (int k = 0; k < tail && k < static_cast<int>(order.size()); ++k) {
+      if (std::find(taken.begin(), taken.end(), order[k].index) != taken.end()) continue;
+      taken.push_back(order[k].index);
+      auto params = sampler.Sample(preset, 1, static_cast<uint64_t>(order[k].index));
+      auto body = params.ok() ? model.BuildBody(*params) : params.status();
+      if (!body.ok()) continue;
+      bodies.push_back({absl::StrFormat("%s-%s-%03d", name, kind, order[k].index),
+                        body->positions});
+    }
+  };
+  take("tall", [](const Sampled& a, const Sampled& b) { return a.stature > b.stature; });
+  take("short", [](const Sampled& a, const Sampled& b) { return a.stature < b.stature; });
+  take("heavy", [](const Sampled& a, const Sampled& b) { return a.weight > b.weight; });
+  return bodies;
+}
+
+// Where each garment's supports sit on bodies far from the mean, against the mean avatar.
+void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>& imported,
+                   const std::vector<Body>& bench_bodies, const std::vector<std::string>& sizes,
+                   int extremes, int jobs, const workers::ClothSettings& settings) {
+  auto sampler = core::PopulationSampler::Create(model);
+  if (!sampler.ok()) {
+    std::cerr << sampler.status().message() << "\n";
+    return;
+  }
+  const std::vector<Body> women =
+      ExtremeBodies(model, *sampler, core::PopulationPreset::kWomen, 500, extremes);
+  const std::vector<Body> men =
+      ExtremeBodies(model, *sampler, core::PopulationPreset::kMen, 500, extremes);
+  const core::Triangles triangles = core::Triangulate(model.body_faces());
+  struct Row {
+    size_t garment;
+    Body body;
+    std::string size;
+    absl::StatusOr<workers::GarmentFit> fit = absl::UnknownError("not run");
+    double inside_leg = 0;
+  };
+  std::vector<Row> rows;
+  for (size_t g = 0; g < imported.size(); ++g) {
+    auto mean = proto::MeshFromProto(imported[g].mean_avatar());
+    if (!mean.ok()) continue;
+    std::vector<Body> bodies = {{"mean", mean->positions.topRows(core::kBodyVertexCount)}};
+    for (const Body& b : bench_bodies) {
+      if (absl::StartsWith(b.name, "man") == IsMenswear(imported[g])) bodies.push_back(b);
+    }
+    for (const Body& b : IsMenswear(imported[g]) ? men : women) bodies.push_back(b);
+    for (const Body& b : bodies) {
+      for (const std::string& size : sizes) rows.push_back({g, b, size});
+    }
+  }
+  std::atomic<size_t> done{0};
+  std::mutex progress_mutex;
+  pipeline::ProgressReporter progress("drapes", static_cast<int64_t>(rows.size()), std::cerr,
+                                      pipeline::StderrIsTerminal());
+  ForEachSideBySide(rows.size(), jobs, [&](size_t i) {
+    Row& row = rows[i];
+    row.fit = workers::DrapeGarment(imported[row.garment], row.size, row.body.positions, settings);
+    const std::array<core::Measurement, 1> leg = {core::Measurement::kInsideLeg};
+    auto measured = core::MeasureBody(row.body.positions, triangles, leg);
+    if (measured.ok()) row.inside_leg = (*measured)[static_cast<int>(leg[0])];
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    progress.Update(static_cast<int64_t>(++done));
+  });
+  progress.Finish();
+
+  std::printf(
+      "\nsupports: drapes on the mean avatar, 5 bench bodies and the tallest, shortest and "
+      "heaviest %d of 500 sampled avatars of the wearers' preset; worst |change| from the mean "
+      "avatar's drape of the same size, cm\n",
+      extremes);
+  std::printf("%-22s %-4s %6s %8s %9s %9s %12s %12s %10s\n", "garment", "size", "drapes",
+              "flagged", "pen<0mm", "pen<1mm", "waistband", "collar", "failed");
+  for (size_t g = 0; g < imported.size(); ++g) {
+    for (const std::string& size : sizes) {
+      const v1::DrapeReport* mean = nullptr;
+      for (const Row& r : rows) {
+        if (r.garment == g && r.size == size && r.body.name == "mean" && r.fit.ok())
+          mean = &r.fit->report;
+      }
+      int count = 0, flagged = 0, failed = 0;
+      double below0 = 0, below1 = 0, band = -1, collar = -1;
+      for (const Row& r : rows) {
+        if (r.garment != g || r.size != size) continue;
+        if (!r.fit.ok()) {
+          ++failed;
+          continue;
+        }
+        const v1::DrapeReport& report = r.fit->report;
+        ++count;
+        flagged += report.overstretched();
+        below0 = std::max(below0, report.penetration_below_0mm());
+        below1 = std::max(below1, report.penetration_below_1mm());
+        if (mean != nullptr && report.has_waistband_above_navel_mm()) {
+          band = std::max(band, std::abs(report.waistband_above_navel_mm() -
+                                         mean->waistband_above_navel_mm()) / 10);
+        }
+        if (mean != nullptr && report.has_collar_above_neck_base_mm()) {
+          collar = std::max(collar, std::abs(report.collar_above_neck_base_mm() -
+                                             mean->collar_above_neck_base_mm()) / 10);
+        }
+      }
+      auto cm = [](double v) { return v < 0 ? std::string("-") : absl::StrFormat("%.1f", v); };
+      std::printf("%-22s %-4s %6d %8d %8.3f%% %8.3f%% %12s %12s %10d\n",
+                  imported[g].name().c_str(), size.c_str(), count, flagged, 100 * below0,
+                  100 * below1, cm(band).c_str(), cm(collar).c_str(), failed);
+    }
+  }
+  std::printf("\nleg hems above the ankle (cm) by inside leg (cm), size M:\n");
+  for (size_t g = 0; g < imported.size(); ++g) {
+    std::vector<const Row*> hems;
+    for (const Row& r : rows) {
+      if (r.garment == g && r.size == "M" && r.fit.ok() && r.fit->report.has_hem_above_ankle_mm())
+        hems.push_back(&r);
+    }
+    if (hems.empty()) continue;
+    std::sort(hems.begin(), hems.end(),
+              [](const Row* a, const Row* b) { return a->inside_leg < b->inside_leg; });
+    // Least-squares slope of the hem's height over the leg's length.
+    double mx = 0, my = 0;
+    for (const Row* r : hems) {
+      mx += r->inside_leg;
+      my += r->fit->report.hem_above_ankle_mm() / 1000;
+    }
+    mx /= static_cast<double>(hems.size());
+    my /= static_cast<double>(hems.size());
+    double sxy = 0, sxx = 0;
+    for (const Row* r : hems) {
+      sxy += (r->inside_leg - mx) * (r->fit->report.hem_above_ankle_mm() / 1000 - my);
+      sxx += (r->inside_leg - mx) * (r->inside_leg - mx);
+    }
+    std::printf("%s: %.2f cm higher per cm of leg\n", imported[g].name().c_str(),
+                sxx > 0 ? sxy / sxx : 0.0);
+    for (const Row* r : hems) {
+      std::printf("  %-20s inside leg %5.1f  hem %+5.1f\n", r->body.name.c_str(),
+                  100 * r->inside_leg, r->fit->report.hem_above_ankle_mm() / 10);
+    }
+  }
+}
+
+// The two factorisations on each garment, in one run.
+void PrintSpeed(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
+                const workers::ClothSettings& settings) {
+  std::printf("\nspeed, size M on the wearers' average body, one drape at a time (s):\n");
+  std::printf("%-22s %6s %12s %12s %7s %14s %8s\n", "garment", "verts", "simplicial",
+              "supernodal", "ratio", "apart_max_mm", "repeat");
+  double total_old = 0, total_new = 0;
+  for (const v1::Garment& g : imported) {
+    const Body& body = *std::find_if(bodies.begin(), bodies.end(), [&](const Body& b) {
+      return b.name == (IsMenswear(g) ? "man" : "woman");
+    });
+    workers::ClothSettings simplicial = settings;
+    simplicial.factorization = workers::Factorization::kSimplicialLdlt;
+    workers::ClothSettings supernodal = settings;
+    supernodal.factorization = workers::Factorization::kSupernodalCholmod;
+    auto timed = [&](const workers::ClothSettings& settings, double* seconds) {
+      const auto start = std::chrono::steady_clock::now();
+      auto fit = workers::DrapeGarment(g, "M", body.positions, settings);
+      *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return fit;
+    };
+    double old_s = 0, new_s = 0, again_s = 0;
+    auto old_fit = timed(simplicial, &old_s);
+    auto new_fit = timed(supernodal, &new_s);
+    auto again = timed(supernodal, &again_s);
+    if (!old_fit.ok() || !new_fit.ok() || !again.ok()) {
+      std::printf("%-22s failed\n", g.name().c_str());
+      continue;
+    }
+    total_old += old_s;
+    total_new += new_s;
+    std::printf("%-22s %6d %12.2f %12.2f %6.2fx %14.4f %8s\n", g.name().c_str(),
+                g.template_mesh().vertex_count(), old_s, new_s, old_s / new_s,
+                1000 * (old_fit->positions - new_fit->positions).rowwise().norm().maxCoeff(),
+                again->positions == new_fit->positions ? "bitwise" : "DIFFERS");
+  }
+  std::printf("all: %.1f s simplicial, %.1f s supernodal, %.2fx\n", total_old, total_new,
+              total_new > 0 ? total_old / total_new : 0.0);
+}
+
 int Main(int argc, char** argv) {
   CLI::App app{"Offline fitter figures over the shared garments"};
   std::string basis_path, data = "data/makehuman", garments = "all", sizes = "S,M,XL", out, rows;
   int jobs = 2;
-  bool smoothness = false, smoothness_only = false;
+  bool smoothness = false, smoothness_only = false, supports = false, speed = false;
+  int extremes = 10;
+  workers::ClothSettings settings;
   app.add_option("--basis", basis_path, "Avatar basis (.fbb) with avatar parameters")->required();
   app.add_option("--data", data, "MakeHuman data folder");
   app.add_option("--garments", garments, "Comma-separated garment names, or all");
@@ -317,6 +534,18 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(1, 64));
   app.add_flag("--smoothness", smoothness, "Also measure smoothness and budget doubling");
   app.add_flag("--smoothness-only", smoothness_only, "Only measure smoothness and budget doubling");
+  app.add_flag("--supports", supports,
+               "Only measure where supports sit on bodies far from the mean (with --sizes)");
+  app.add_option("--extremes", extremes,
+                 "Tallest, shortest and heaviest avatars of 500 per preset for --supports")
+      ->check(CLI::Range(0, 500));
+  app.add_flag("--speed", speed, "Only compare the simplicial and the supernodal factorisation's speed");
+  app.add_option("--tie-limit", settings.tie_limit,
+                 "Stiction's largest force in the vertex's weights (0: none, the default)");
+  app.add_option("--waistband-stiffness", settings.waistband_stiffness,
+                 "N/m of a waistband's elastic (0: none, the default)");
+  app.add_option("--waistband-anchor", settings.waistband_anchor_stiffness,
+                 "N/m holding an elastic waistband's height");
   app.add_option("--out", out, "Folder for the imported garments (reused when present)");
   app.add_option("--rows", rows, "CSV file for one row per drape of the population table");
   CLI11_PARSE(app, argc, argv);
@@ -374,8 +603,16 @@ int Main(int argc, char** argv) {
     imported.push_back(*std::move(result));
   }
 
-  if (!smoothness_only) PrintPopulationTable(imported, bodies, size_list, jobs, rows);
-  if (smoothness || smoothness_only) PrintSmoothness(imported, bodies, basis, jobs);
+  if (supports) {
+    PrintSupports(*model, imported, bodies, size_list, extremes, jobs, settings);
+    return 0;
+  }
+  if (speed) {
+    PrintSpeed(imported, bodies, settings);
+    return 0;
+  }
+  if (!smoothness_only) PrintPopulationTable(imported, bodies, size_list, jobs, rows, settings);
+  if (smoothness || smoothness_only) PrintSmoothness(imported, bodies, basis, jobs, settings);
   return 0;
 }
 

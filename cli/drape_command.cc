@@ -54,6 +54,23 @@ absl::Status RunDrape(const DrapeFlags& flags) {
       100 * r.stretch_p99(), 100 * r.compression_p99(), 100 * r.strain_max(),
       r.overstretched() ? " (OVERSTRETCHED: size too small)" : "", r.ease_mean_mm(),
       r.seconds(), flags.out);
+  std::string supports;
+  if (r.has_waistband_above_navel_mm()) {
+    absl::StrAppendFormat(&supports, " waistband %+.1f cm above the navel;",
+                          r.waistband_above_navel_mm() / 10);
+  }
+  if (r.has_collar_above_neck_base_mm()) {
+    absl::StrAppendFormat(&supports, " collar %+.1f cm above the neck base;",
+                          r.collar_above_neck_base_mm() / 10);
+  }
+  if (r.has_hem_above_ankle_mm()) {
+    absl::StrAppendFormat(&supports, " leg hems %+.1f cm above the ankle;",
+                          r.hem_above_ankle_mm() / 10);
+  }
+  if (!supports.empty()) {
+    supports.pop_back();
+    std::cout << "supports:" << supports << "\n";
+  }
   return absl::OkStatus();
 }
 

@@ -64,6 +64,7 @@ struct BodyLandmarks {
   static constexpr int32_t kLeftWrist = 10182;          // Ulnar styloid, back of the wrist.
   static constexpr int32_t kNeckFront = 809;            // Just below the laryngeal prominence.
   static constexpr int32_t kNeckBack = 857;             // Nape, where that girth crosses it.
+  static constexpr int32_t kLeftAnkle = 12836;          // Lateral malleolus, ankle's outer tip.
 };
 
 // The perimeter of the convex hull of `points` (any count; fewer than 2 give 0), the way a

@@ -2,22 +2,26 @@
 # Prepares this checkout on a Debian (bookworm) machine: installs the Debian packages fitbase
 # needs (skipping those already installed), makes the MakeHuman data available in data/, and
 # builds Release into build/. Safe to run again: each step only does what is missing.
-# --packages-only stops after the packages (deploy/Dockerfile's build stage uses it).
+# --packages-only stops after the packages (deploy/Dockerfile's build stage uses it);
+# --no-build after the data (scripts/fuzz.sh and test.sh --sanitize build elsewhere).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 packages_only=false
+no_build=false
 case "${1:-}" in
   "") ;;
   --packages-only) packages_only=true ;;
-  *) echo "usage: scripts/setup.sh [--packages-only]" >&2; exit 2 ;;
+  --no-build) no_build=true ;;
+  *) echo "usage: scripts/setup.sh [--packages-only | --no-build]" >&2; exit 2 ;;
 esac
 
 packages=(
   cmake ninja-build g++ pkg-config ca-certificates curl
   protobuf-compiler libprotobuf-dev protobuf-compiler-grpc libgrpc++-dev libabsl-dev libssl-dev
   libeigen3-dev librocksdb-dev libdraco-dev libopenmesh-dev libcli11-dev libpng-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libsuitesparse-dev
+  clang-16 libclang-rt-16-dev
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -74,6 +78,7 @@ fi
   echo "setup: $data does not match scripts/makehuman_manifest.sha256" >&2
   exit 1
 }
+if $no_build; then exit 0; fi
 
 cmake -S "$root" -B "$root/build" -G Ninja -DCMAKE_BUILD_TYPE=Release > "$root/build.log" 2>&1 ||
   { cat "$root/build.log"; exit 1; }

@@ -7,6 +7,8 @@
 
 #include "Eigen/Geometry"
 #include "absl/strings/str_cat.h"
+#include "core/body_measurements.h"
+#include "core/body_model.h"
 #include "core/dihedral_angle.h"
 
 namespace fitbase::workers {
@@ -22,11 +24,13 @@ int32_t Root(std::vector<int32_t>& parent, int32_t v) {
   return v;
 }
 
-// Groups boundary vertices into loops (components of the boundary-edge graph) and keeps, for
-// each connected piece of the garment, the loop with the highest mean height.
-std::vector<int32_t> TopBoundaryLoops(const core::Positions& positions,
-                                      const std::map<Pair, std::vector<int32_t>>& edge_faces,
-                                      const core::Triangles& triangles) {
+// Groups boundary edges into loops (components of the boundary-edge graph), each with its
+// piece (component of the triangle graph); marks each piece's loop with the highest mean
+// height.
+std::vector<Opening> BoundaryLoops(const core::Positions& positions,
+                                   const std::vector<Pair>& edges,
+                                   const std::map<Pair, std::vector<int32_t>>& edge_faces,
+                                   const core::Triangles& triangles) {
   const int32_t n = static_cast<int32_t>(positions.rows());
   std::vector<int32_t> piece(n), loop(n);
   std::iota(piece.begin(), piece.end(), 0);
@@ -36,34 +40,39 @@ std::vector<int32_t> TopBoundaryLoops(const core::Positions& positions,
       piece[Root(piece, triangles(t, k))] = Root(piece, triangles(t, (k + 1) % 3));
     }
   }
+  std::vector<int32_t> boundary_edges;
+  for (size_t e = 0; e < edges.size(); ++e) {
+    if (edge_faces.at(edges[e]).size() != 1) continue;
+    boundary_edges.push_back(static_cast<int32_t>(e));
+    loop[Root(loop, edges[e][0])] = Root(loop, edges[e][1]);
+  }
+  // Loops in the order of their lowest vertex, pieces numbered in the order of theirs.
+  std::map<int32_t, size_t> loop_index;
+  std::map<int32_t, int32_t> piece_index;
+  std::vector<Opening> openings;
   std::vector<bool> on_boundary(n, false);
-  for (const auto& [edge, faces] : edge_faces) {
-    if (faces.size() != 1) continue;
-    on_boundary[edge[0]] = on_boundary[edge[1]] = true;
-    loop[Root(loop, edge[0])] = Root(loop, edge[1]);
+  for (int32_t e : boundary_edges) on_boundary[edges[e][0]] = on_boundary[edges[e][1]] = true;
+  for (int32_t v = 0; v < n; ++v) {
+    if (on_boundary[v]) piece_index.try_emplace(Root(piece, v), piece_index.size());
   }
-  // Mean height per loop, then the highest loop per piece.
-  std::map<int32_t, std::pair<double, int>> loop_height;
   for (int32_t v = 0; v < n; ++v) {
     if (!on_boundary[v]) continue;
-    auto& [sum, count] = loop_height[Root(loop, v)];
-    sum += positions(v, 1);
-    ++count;
+    const auto [it, added] = loop_index.try_emplace(Root(loop, v), openings.size());
+    if (added) openings.push_back({.vertices = {}, .edges = {}, .piece = piece_index.at(Root(piece, v))});
+    Opening& opening = openings[it->second];
+    opening.vertices.push_back(v);
+    opening.mean_height += positions(v, 1);
   }
-  std::map<int32_t, std::pair<double, int32_t>> best_loop;  // piece -> (height, loop root)
-  for (const auto& [root, stats] : loop_height) {
-    const double height = stats.first / stats.second;
-    const int32_t p = Root(piece, root);
-    auto it = best_loop.find(p);
-    if (it == best_loop.end() || height > it->second.first) best_loop[p] = {height, root};
+  for (int32_t e : boundary_edges) openings[loop_index.at(Root(loop, edges[e][0]))].edges.push_back(e);
+  std::map<int32_t, size_t> highest;  // piece -> opening
+  for (size_t o = 0; o < openings.size(); ++o) {
+    Opening& opening = openings[o];
+    opening.mean_height /= static_cast<double>(opening.vertices.size());
+    const auto [it, added] = highest.try_emplace(opening.piece, o);
+    if (!added && opening.mean_height > openings[it->second].mean_height) it->second = o;
   }
-  std::vector<int32_t> anchors;
-  for (int32_t v = 0; v < n; ++v) {
-    if (!on_boundary[v]) continue;
-    const auto it = best_loop.find(Root(piece, v));
-    if (it != best_loop.end() && it->second.second == Root(loop, v)) anchors.push_back(v);
-  }
-  return anchors;
+  for (const auto& [p, o] : highest) openings[o].highest_of_piece = true;
+  return openings;
 }
 
 }  // namespace
@@ -111,7 +120,7 @@ absl::StatusOr<ClothModel> BuildClothModel(const core::Positions& positions,
   for (int64_t v = 0; v < n; ++v) {
     if (mass(v) > 0) model.inverse_masses(v) = 1.0 / mass(v);
   }
-  model.anchor_vertices = TopBoundaryLoops(positions, edge_faces, model.triangles);
+  model.openings = BoundaryLoops(positions, model.edges, edge_faces, model.triangles);
   return model;
 }
 
@@ -136,6 +145,27 @@ Eigen::VectorXd PairLengths(const core::Positions& positions,
         (positions.row(pairs[e][0]) - positions.row(pairs[e][1])).norm();
   }
   return lengths;
+}
+
+absl::StatusOr<std::vector<int32_t>> WaistbandEdges(const ClothModel& model,
+                                                    const core::Positions& mean_body) {
+  using core::BodyLandmarks;
+  if (mean_body.rows() != core::kBodyVertexCount) {
+    return absl::InvalidArgumentError(absl::StrCat("the mean avatar has ", mean_body.rows(),
+                                                   " vertices, not ", core::kBodyVertexCount));
+  }
+  const double crotch = mean_body(BodyLandmarks::kCrotch, 1);
+  const double underbust = mean_body(BodyLandmarks::kLeftUnderbust, 1);
+  std::vector<int32_t> edges;
+  for (const Opening& opening : model.openings) {
+    if (!opening.highest_of_piece || opening.mean_height <= crotch ||
+        opening.mean_height >= underbust) {
+      continue;
+    }
+    edges.insert(edges.end(), opening.edges.begin(), opening.edges.end());
+  }
+  std::sort(edges.begin(), edges.end());
+  return edges;
 }
 
 Eigen::VectorXd TriangleRestAreas(const ClothModel& model, const Eigen::VectorXd& edge_rest) {

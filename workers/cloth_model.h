@@ -11,6 +11,16 @@
 
 namespace fitbase::workers {
 
+// A boundary loop of a garment: a waistband, collar, cuff, hem or shoe opening.
+struct Opening {
+  std::vector<int32_t> vertices;  // Ascending.
+  std::vector<int32_t> edges;     // Its boundary edges, ascending indices into ClothModel::edges.
+  int32_t piece = 0;  // The connected piece of the garment it bounds, numbered from 0.
+  double mean_height = 0;  // Of its vertices on the template, m.
+  // The highest opening of its piece: a waistband, a collar or a shoe's opening.
+  bool highest_of_piece = false;
+};
+
 // The constraint topology of a garment for the cloth solver, derived once from its faces.
 // Vertex order is the garment's; constraints are stored in a fixed order so a solve visits
 // them the same way every time.
@@ -23,10 +33,8 @@ struct ClothModel {
   std::vector<std::array<int32_t, 4>> hinges;
   // Per vertex: 1 / mass (kg^-1); 0 for vertices no face uses (they never move).
   Eigen::VectorXd inverse_masses;
-  // The garment's top openings (waistband, collar, shoe opening): per connected piece, the
-  // boundary loop highest on the template. These keep their height on the body, as a belt or
-  // elastic would, so a garment stays where it is worn instead of sliding off a smaller body.
-  std::vector<int32_t> anchor_vertices;
+  // Boundary loops, in the order of their lowest vertex.
+  std::vector<Opening> openings;
 };
 
 // positions: the template, V x 3 (m); faces as given (polygons). areal_density: kg/m^2.
@@ -34,6 +42,14 @@ struct ClothModel {
 absl::StatusOr<ClothModel> BuildClothModel(const core::Positions& positions,
                                            const core::PolygonFaces& faces,
                                            double areal_density);
+
+// The edges (ascending indices into model.edges) of the openings that grip the body as an
+// elastic waistband does: the highest opening of a piece that lies, on the template, between
+// the crotch and the underbust of `mean_body` (the 13,380 x 3 body avatar it was fitted to,
+// m): trousers and skirts. A top's highest opening is its collar, above; it hangs from the
+// shoulders. A shoe's is below. INVALID_ARGUMENT for a body of another vertex count.
+absl::StatusOr<std::vector<int32_t>> WaistbandEdges(const ClothModel& model,
+                                                    const core::Positions& mean_body);
 
 // Current bending angles of `hinges` for `positions` (rad; 0 for a degenerate hinge).
 Eigen::VectorXd HingeAngles(const core::Positions& positions,

@@ -29,8 +29,11 @@ TEST(ClothModelTest, QuadGridConstraintsAndMasses) {
   EXPECT_TRUE((HingeAngles(grid.positions, model->hinges).array().abs() < 1e-12).all());
   // Total mass = area x density = 0.04 m^2 x 0.2 kg/m^2.
   EXPECT_NEAR(model->inverse_masses.cwiseInverse().sum(), 0.008, 1e-12);
-  // One piece, one boundary loop: every boundary vertex (all but the centre) is an anchor.
-  EXPECT_EQ(model->anchor_vertices.size(), 8u);
+  // One piece, one boundary loop: every boundary vertex (all but the centre) on it.
+  ASSERT_EQ(model->openings.size(), 1u);
+  EXPECT_EQ(model->openings[0].vertices.size(), 8u);
+  EXPECT_EQ(model->openings[0].edges.size(), 8u);
+  EXPECT_TRUE(model->openings[0].highest_of_piece);
   EXPECT_TRUE(std::is_sorted(model->edges.begin(), model->edges.end()));
   // Each triangle is half a quad at rest; a garment graded 10% larger has 21% more area.
   const Eigen::VectorXd rest = PairLengths(grid.positions, model->edges);
@@ -42,12 +45,23 @@ TEST(ClothModelTest, QuadGridConstraintsAndMasses) {
   EXPECT_EQ(TriangleRestAreas(*model, broken).minCoeff(), 0);
 }
 
-TEST(ClothModelTest, TubeAnchorsItsTopRing) {
+TEST(ClothModelTest, TubeHasTwoOpeningsTheTopOneHighest) {
   const core::Mesh tube = Tube(0.2, 0.0, 0.4, 4, 12);
   auto model = BuildClothModel(tube.positions, tube.faces, 0.2);
   ASSERT_TRUE(model.ok());
-  ASSERT_EQ(model->anchor_vertices.size(), 12u);
-  for (int32_t v : model->anchor_vertices) EXPECT_DOUBLE_EQ(tube.positions(v, 1), 0.4);
+  ASSERT_EQ(model->openings.size(), 2u);
+  for (const Opening& opening : model->openings) {
+    EXPECT_EQ(opening.piece, 0);
+    ASSERT_EQ(opening.vertices.size(), 12u);
+    ASSERT_EQ(opening.edges.size(), 12u);
+    const double height = opening.highest_of_piece ? 0.4 : 0.0;
+    EXPECT_DOUBLE_EQ(opening.mean_height, height);
+    for (int32_t v : opening.vertices) EXPECT_DOUBLE_EQ(tube.positions(v, 1), height);
+    for (int32_t e : opening.edges) {
+      for (int32_t v : model->edges[e]) EXPECT_DOUBLE_EQ(tube.positions(v, 1), height);
+    }
+  }
+  EXPECT_NE(model->openings[0].highest_of_piece, model->openings[1].highest_of_piece);
   // Quads are planar and the tube straight, so only the hinges between neighbouring columns
   // fold, by the 12-gon's exterior angle.
   const Eigen::VectorXd angles = HingeAngles(tube.positions, model->hinges);

@@ -21,6 +21,8 @@ constexpr double kPokeSearch = 0.01;
 // collision offset: between its corners (which keep the offset) a flat triangle over a convex
 // body sits lower, and asking more of it fights the corners' contacts.
 constexpr double kPokeClearance = 0.0005;
+// The longest vertex move of one Newton iteration, as a share of the collision search.
+constexpr double kMaxMoveShareOfSearch = 0.5;
 // Armijo line search: sufficient decrease, and how often the step may be halved.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 12;
@@ -101,6 +103,7 @@ class ClothSolver::HessianPattern {
 
 ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
                          Eigen::VectorXd edge_rest, Eigen::VectorXd hinge_rest,
+                         const std::vector<int32_t>& waistband_edges,
                          const core::TriangleBvh& body, const ClothSettings& settings)
     : model_(model),
       settings_(settings),
@@ -108,7 +111,8 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
       hinge_rest_(std::move(hinge_rest)),
       triangle_rest_areas_(TriangleRestAreas(model, edge_rest_)),
       positions_(start),
-      step_start_(start) {
+      step_start_(start),
+      cholesky_(settings.factorization) {
   masses_ = Eigen::VectorXd::Zero(model.inverse_masses.size());
   for (Eigen::Index v = 0; v < masses_.size(); ++v) {
     if (model.inverse_masses(v) > 0) masses_(v) = 1.0 / model.inverse_masses(v);
@@ -122,10 +126,23 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
     ties_.push_back({static_cast<int32_t>(v), {hit.triangle, hit.barycentric},
                      start.row(v).transpose() - hit.point});
   }
-  for (int32_t v : model.anchor_vertices) {
-    if (tie_of[v] < 0) continue;
-    const SkinTie& tie = ties_[tie_of[v]];
-    anchors_.push_back({v, tie.skin, tie.offset.y()});
+  waistband_edge_.assign(model.edges.size(), false);
+  std::vector<bool> in_waistband(static_cast<size_t>(start.rows()), false);
+  if (settings.waistband_stiffness > 0) {
+    for (int32_t e : waistband_edges) {
+      waistband_edge_[e] = true;
+      for (int32_t v : model.edges[e]) in_waistband[v] = true;
+    }
+  }
+  for (const Opening& opening : model.openings) {
+    if (!opening.highest_of_piece) continue;
+    for (int32_t v : opening.vertices) {
+      if (tie_of[v] < 0) continue;
+      const SkinTie& tie = ties_[tie_of[v]];
+      anchors_.push_back({v, tie.skin, tie.offset.y(),
+                          in_waistband[v] ? settings.waistband_anchor_stiffness
+                                          : settings.anchor_stiffness});
+    }
   }
   hinge_weights_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.hinges.size()));
   for (size_t h = 0; h < model.hinges.size(); ++h) {
@@ -143,7 +160,7 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
   garment_bvh_.emplace(*core::TriangleBvh::Build(positions_, model_.triangles));
   pattern_ = std::make_unique<HessianPattern>(start.rows(), model_.edges, model_.hinges,
                                               &hessian_);
-  cholesky_.analyzePattern(hessian_);
+  cholesky_.AnalyzePattern(hessian_);
 }
 
 ClothSolver::~ClothSolver() = default;
@@ -171,13 +188,16 @@ double ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
   Evaluation here;
   Evaluate(positions_, body, /*derivatives=*/true, &here);
   Eigen::Map<Eigen::VectorXd>(hessian_.valuePtr(), hessian_.nonZeros()) = here.hessian;
-  cholesky_.factorize(hessian_);
-  if (cholesky_.info() != Eigen::Success) return 0;
-  const Eigen::VectorXd direction = cholesky_.solve(-here.gradient);
+  if (!cholesky_.Factorize(hessian_)) return 0;
+  const Eigen::VectorXd direction = cholesky_.Solve(-here.gradient);
   const double slope = here.gradient.dot(direction);
   if (!(slope < 0)) return 0;
   const Eigen::Map<const core::Positions> delta(direction.data(), positions_.rows(), 3);
-  double alpha = 1.0;
+  // Contact is seen only within the collision search, so a Newton step that moved a vertex
+  // farther could carry it through the body unseen (a waistband's elastic, before its contact
+  // pushes back, would pull the band through the waist).
+  const double longest = delta.rowwise().norm().maxCoeff();
+  double alpha = std::min(1.0, kMaxMoveShareOfSearch * settings_.collision_search / longest);
   for (int halving = 0; halving <= kMaxHalvings; ++halving, alpha *= 0.5) {
     const core::Positions trial = positions_ + alpha * delta;
     Evaluation there;
@@ -218,11 +238,11 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
   AddAreaFloor(x, derivatives, out);
   for (const AnchorBinding& a : anchors_) {
     const double c = x(a.vertex, 1) - (OnSkin(body, a.skin).y() + a.height_above);
-    out->energy += 0.5 * settings_.anchor_stiffness * c * c;
+    out->energy += 0.5 * a.stiffness * c * c;
     if (!derivatives) continue;
-    out->gradient(3 * a.vertex + 1) += settings_.anchor_stiffness * c;
+    out->gradient(3 * a.vertex + 1) += a.stiffness * c;
     Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
-    block(1, 1) = settings_.anchor_stiffness;
+    block(1, 1) = a.stiffness;
     pattern_->Add(a.vertex, a.vertex, block, out->hessian);
   }
   for (const SkinTie& tie : ties_) {
@@ -236,34 +256,60 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     const double k = settings_.skin_tie * masses_(tie.vertex);
     const Eigen::Vector3d target = OnSkin(body, tie.skin) + tie.offset;
     const Eigen::Vector3d slip = tangential * (x.row(tie.vertex).transpose() - target);
-    out->energy += 0.5 * k * slip.squaredNorm();
+    // Up to the slip at which the tie reaches its limit it is a spring, beyond it a constant
+    // force against the slip.
+    const double yield = settings_.tie_limit * settings_.gravity / settings_.skin_tie;
+    const double s = slip.norm();
+    if (settings_.tie_limit == 0 || s <= yield) {
+      out->energy += 0.5 * k * s * s;
+      if (!derivatives) continue;
+      out->gradient.segment<3>(3 * tie.vertex) += k * slip;
+      pattern_->Add(tie.vertex, tie.vertex, k * tangential, out->hessian);
+      continue;
+    }
+    out->energy += k * yield * (s - 0.5 * yield);
     if (!derivatives) continue;
-    out->gradient.segment<3>(3 * tie.vertex) += k * slip;
-    pattern_->Add(tie.vertex, tie.vertex, k * tangential, out->hessian);
+    const Eigen::Vector3d along = slip / s;
+    out->gradient.segment<3>(3 * tie.vertex) += k * yield * along;
+    pattern_->Add(tie.vertex, tie.vertex,
+                  k * yield / s * (tangential - along * along.transpose()), out->hessian);
   }
   AddContacts(x, body, derivatives, out);
 }
 
 void ClothSolver::AddSprings(const core::Positions& x, bool derivatives,
                              Evaluation* out) const {
+  // One spring of stiffness k and rest length `rest` between the ends of edge (i, j).
+  auto add = [&](int32_t i, int32_t j, const Eigen::Vector3d& d, double length, double rest,
+                 double k) {
+    if (k == 0) return;
+    out->energy += 0.5 * k * (length - rest) * (length - rest);
+    if (!derivatives) return;
+    const Eigen::Vector3d force = length < 1e-12
+                                      ? Eigen::Vector3d(k * d)
+                                      : Eigen::Vector3d(k * (length - rest) / length * d);
+    out->gradient.segment<3>(3 * i) += force;
+    out->gradient.segment<3>(3 * j) -= force;
+    const Eigen::Matrix3d block = SpringBlock(d, length, rest, k);
+    Eigen::VectorXd& h = out->hessian;
+    pattern_->Add(i, i, block, h);
+    pattern_->Add(j, j, block, h);
+    pattern_->Add(i, j, -block, h);
+  };
   for (size_t e = 0; e < model_.edges.size(); ++e) {
     const auto [i, j] = model_.edges[e];
     const Eigen::Vector3d d = (x.row(i) - x.row(j)).transpose();
     const double length = d.norm();
     const double r = edge_rest_(static_cast<Eigen::Index>(e));
-    const double k =
-        length < r ? settings_.compression_stiffness : settings_.stretch_stiffness;
-    out->energy += 0.5 * k * (length - r) * (length - r);
-    if (!derivatives) continue;
-    const Eigen::Vector3d force = length < 1e-12 ? Eigen::Vector3d(k * d)
-                                                 : Eigen::Vector3d(k * (length - r) / length * d);
-    out->gradient.segment<3>(3 * i) += force;
-    out->gradient.segment<3>(3 * j) -= force;
-    const Eigen::Matrix3d block = SpringBlock(d, length, r, k);
-    Eigen::VectorXd& h = out->hessian;
-    pattern_->Add(i, i, block, h);
-    pattern_->Add(j, j, block, h);
-    pattern_->Add(i, j, -block, h);
+    if (!waistband_edge_[e]) {
+      add(i, j, d, length, r,
+          length < r ? settings_.compression_stiffness : settings_.stretch_stiffness);
+      continue;
+    }
+    // The band's fabric gathers on its elastic, which only pulls.
+    if (length > r) add(i, j, d, length, r, settings_.stretch_stiffness);
+    const double elastic_rest = settings_.waistband_grip * r;
+    if (length > elastic_rest) add(i, j, d, length, elastic_rest, settings_.waistband_stiffness);
   }
 }
 

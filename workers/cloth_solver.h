@@ -7,10 +7,11 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "Eigen/SparseCholesky"
+#include "Eigen/SparseCore"
 #include "core/mesh.h"
 #include "core/triangle_bvh.h"
 #include "workers/cloth_model.h"
+#include "workers/sparse_cholesky.h"
 
 namespace fitbase::workers {
 
@@ -60,13 +61,34 @@ struct ClothSettings {
   // needs drapes that vary smoothly with the body (at 2e-4 a 0.1-sigma step moved some
   // vertices by 18 mm more than linearly, at 2e-3 by 3 mm).
   double bending_rigidity = 2e-3;
-  double anchor_stiffness = 20;    // Keeps a top opening's height on the body.
+  // Keeps a top opening's height on the body (relative to the skin point it started over),
+  // N/m: a collar on the neck. A waistband's is `waistband_anchor_stiffness`.
+  double anchor_stiffness = 20;
   // Stiction, N/m per kg of cloth: each vertex is held, along the body surface only, to the
   // point of the skin it started over, as it moves with the body. Without it a frictionless
   // garment has a continuum of resting places (it may slide around a limb or settle a fold to
   // either side) and the path decides; with it the drape is one smooth function of the body.
   // Weak next to the stretch springs: it does not stop a garment stretching or lifting off.
   double skin_tie = 1e4;
+  // Two supports for bodies far from the mean, off by default until they keep the drape
+  // smooth (README, "The offline fitter"; issue "The drape is true far from the mean").
+  // With `tie_limit` > 0 the stiction gives way like friction: its force grows with the slip
+  // up to `tie_limit` times the vertex's weight, then stays (a Huber energy). Unbounded, the
+  // ties of a whole trouser leg drag the hems down with the ankles of a tall body and the
+  // waistband with them; bounded, cloth slides along a longer limb and hems ride up. The limit
+  // is per vertex, not mu times the contact's normal force: Coulomb friction lagged a step (as
+  // IPC does) made the drape depend on the path (female_casualsuit01: second difference 50 mm
+  // at 0.1 sigma, doubling the schedule moved it 12 mm).
+  double tie_limit = 0;
+  // With `waistband_stiffness` > 0 a waistband (the highest opening of trousers and skirts,
+  // WaistbandEdges) is elastic: its boundary edges carry an elastic of rest length
+  // `waistband_grip` times the size's, of that stiffness (N/m), the fabric along it gathers
+  // freely (no compression stiffness), and its height on the body is held by
+  // `waistband_anchor_stiffness` (N/m) instead of `anchor_stiffness`. The band's rest girth is
+  // then below any waist it fits, so it grips a slim and a broad waist alike.
+  double waistband_grip = 0.5;
+  double waistband_stiffness = 0;
+  double waistband_anchor_stiffness = 20;
   // Contact: energy k/2 * depth^2 for a vertex `depth` inside the offset, N/m. Quadratic, so
   // that Newton resolves a contact in one iteration. Soft enough that the body's facets and
   // creases do not stall the line search (at 1e7 the drape changed by millimetres when the
@@ -75,22 +97,27 @@ struct ClothSettings {
   double contact_stiffness = 2e4;
   double collision_offset = 0.0025;
   double collision_search = 0.03;  // Penetrations deeper than this are not seen.
+  // Both factorisations give the same drape to rounding. Supernodal is faster only with an
+  // optimised BLAS, and OpenBLAS made drapes run side by side in one process differ (README).
+  Factorization factorization = Factorization::kSimplicialLdlt;
 };
 
 // Quasi-static cloth: every step minimises the garment's elastic, gravity, stiction and contact
 // energy plus a mass-weighted proximity term to the previous step (a backward Euler step from
 // rest) by Newton iterations to a tolerance (sparse Cholesky with a fill-reducing ordering
-// computed once, Armijo backtracking). A global solve keeps near-inextensible edges at their
+// and symbolic analysis computed once, Armijo backtracking, no vertex moved by more than half
+// the collision search in one iteration). A global solve keeps near-inextensible edges at their
 // length where a few local (Gauss-Seidel, XPBD) sweeps leave them stretched. Everything runs
 // in a fixed order, so a run is bitwise reproducible.
 class ClothSolver {
  public:
   // `start` (V x 3, m) on the body `body`; rest lengths per model.edges (m) and rest angles
-  // per model.hinges (rad).
-  // Anchors are bound to the body surface nearest them on `body`.
+  // per model.hinges (rad); `waistband_edges`: ascending indices into model.edges that carry
+  // a waistband's elastic (ClothSettings::waistband_grip). The top openings (each piece's
+  // highest, model.openings) are anchored to the body surface nearest them on `body`.
   ClothSolver(const ClothModel& model, const core::Positions& start, Eigen::VectorXd edge_rest,
-              Eigen::VectorXd hinge_rest, const core::TriangleBvh& body,
-              const ClothSettings& settings);
+              Eigen::VectorXd hinge_rest, const std::vector<int32_t>& waistband_edges,
+              const core::TriangleBvh& body, const ClothSettings& settings);
 
   // One step with the body as `body` now is (the caller refits it between steps). Returns
   // the largest vertex move of the step, meters.
@@ -120,6 +147,7 @@ class ClothSolver {
     int32_t vertex;
     SkinPoint skin;
     double height_above;  // Vertex height minus the skin point's height, m.
+    double stiffness;     // N/m.
   };
   // A body vertex under a garment triangle: vertex-only contact lets a coarse triangle cut
   // through a convex body between its corners, so the triangle's point over the body vertex
@@ -168,6 +196,7 @@ class ClothSolver {
   Eigen::VectorXd masses_;  // Per vertex, kg; 0 for vertices no face uses (they never move).
   std::vector<AnchorBinding> anchors_;
   std::vector<SkinTie> ties_;
+  std::vector<bool> waistband_edge_;  // Per model edge.
   std::vector<Poke> pokes_;
   std::optional<core::TriangleBvh> garment_bvh_;
   // The floor the body stands on (its lowest point), m: long hems rest on it instead of
@@ -180,7 +209,7 @@ class ClothSolver {
   // The Hessian's sparsity never changes, so its fill-reducing ordering is computed once.
   Eigen::SparseMatrix<double> hessian_;
   std::unique_ptr<const HessianPattern> pattern_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> cholesky_;
+  SparseCholesky cholesky_;
 };
 
 }  // namespace fitbase::workers

@@ -38,6 +38,14 @@ absl::Status ValidateInput(const DrapeInput& in) {
   if (!in.target_body.allFinite() || !in.mean_body.allFinite() || !in.start.allFinite()) {
     return absl::InvalidArgumentError("drape input has non-finite positions");
   }
+  for (size_t e = 0; e < in.waistband_edges.size(); ++e) {
+    const int32_t edge = in.waistband_edges[e];
+    if (edge < 0 || static_cast<size_t>(edge) >= in.model->edges.size() ||
+        (e > 0 && edge <= in.waistband_edges[e - 1])) {
+      return absl::InvalidArgumentError(
+          "waistband edges must be ascending indices of the garment's edges");
+    }
+  }
   if (!in.regions.empty() && static_cast<Eigen::Index>(in.regions.size()) != n) {
     return absl::InvalidArgumentError("garment regions do not match its vertices");
   }
@@ -51,7 +59,8 @@ absl::StatusOr<DrapeResult> Drape(const DrapeInput& in, const ClothSettings& set
   RETURN_IF_ERROR(ValidateInput(in));
   const auto start_time = std::chrono::steady_clock::now();
   ASSIGN_OR_RETURN(core::TriangleBvh body, core::TriangleBvh::Build(in.mean_body, in.body_triangles));
-  ClothSolver solver(*in.model, in.start, in.edge_rest, in.hinge_rest, body, settings);
+  ClothSolver solver(*in.model, in.start, in.edge_rest, in.hinge_rest, in.waistband_edges, body,
+                     settings);
   DrapeResult result;
   for (int step = 1; step <= schedule.homotopy_steps; ++step) {
     const double t = static_cast<double>(step) / schedule.homotopy_steps;

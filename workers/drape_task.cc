@@ -10,19 +10,23 @@ namespace fitbase::workers {
 namespace {
 
 // Bumped whenever the solver or the garment pipeline changes results for the same inputs.
-constexpr char kSimulatorVersion[] = "fitbase-newton-6";
+constexpr char kSimulatorVersion[] = "fitbase-newton-7";
 
 }  // namespace
 
 std::string SimulatorDescription(const ClothSettings& s, const DrapeSchedule& schedule) {
   return absl::StrFormat(
       "%s step=%.17g newton=%d tolerance=%.17g gravity=%.17g density=%.17g stretch=%.17g "
-      "compression=%.17g area_floor=%.17g bending=%.17g anchor=%.17g tie=%.17g contact=%.17g "
-      "offset=%.17g search=%.17g homotopy=%d relax=%d",
+      "compression=%.17g area_floor=%.17g bending=%.17g anchor=%.17g tie=%.17g "
+      "tie_limit=%.17g grip=%.17g band_stiffness=%.17g band_anchor=%.17g contact=%.17g "
+      "offset=%.17g search=%.17g factorization=%s homotopy=%d relax=%d",
       kSimulatorVersion, s.step_seconds, s.newton_iterations, s.newton_tolerance, s.gravity,
       s.areal_density, s.stretch_stiffness, s.compression_stiffness, s.area_floor,
-      s.bending_rigidity, s.anchor_stiffness, s.skin_tie, s.contact_stiffness, s.collision_offset,
-      s.collision_search, schedule.homotopy_steps, schedule.relax_steps);
+      s.bending_rigidity, s.anchor_stiffness, s.skin_tie, s.tie_limit, s.waistband_grip,
+      s.waistband_stiffness, s.waistband_anchor_stiffness, s.contact_stiffness,
+      s.collision_offset, s.collision_search,
+      s.factorization == Factorization::kSimplicialLdlt ? "simplicial" : "supernodal",
+      schedule.homotopy_steps, schedule.relax_steps);
 }
 
 DrapeTask MakeDrapeTask(const v1::Garment& garment, absl::string_view size,

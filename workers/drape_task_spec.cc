@@ -61,6 +61,13 @@ v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedu
   proto.set_bending_rigidity(s.bending_rigidity);
   proto.set_anchor_stiffness(s.anchor_stiffness);
   proto.set_skin_tie(s.skin_tie);
+  proto.set_tie_limit(s.tie_limit);
+  proto.set_waistband_grip(s.waistband_grip);
+  proto.set_waistband_stiffness(s.waistband_stiffness);
+  proto.set_waistband_anchor_stiffness(s.waistband_anchor_stiffness);
+  proto.set_factorization(s.factorization == Factorization::kSimplicialLdlt
+                              ? v1::FACTORIZATION_SIMPLICIAL_LDLT
+                              : v1::FACTORIZATION_SUPERNODAL_CHOLMOD);
   proto.set_contact_stiffness(s.contact_stiffness);
   proto.set_collision_offset(s.collision_offset);
   proto.set_collision_search(s.collision_search);
@@ -83,6 +90,15 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   RETURN_IF_ERROR(CheckNonNegative("bending_rigidity", p.bending_rigidity()));
   RETURN_IF_ERROR(CheckNonNegative("anchor_stiffness", p.anchor_stiffness()));
   RETURN_IF_ERROR(CheckNonNegative("skin_tie", p.skin_tie()));
+  RETURN_IF_ERROR(CheckNonNegative("tie_limit", p.tie_limit()));
+  RETURN_IF_ERROR(CheckShare("waistband_grip", p.waistband_grip()));
+  RETURN_IF_ERROR(CheckNonNegative("waistband_stiffness", p.waistband_stiffness()));
+  RETURN_IF_ERROR(
+      CheckNonNegative("waistband_anchor_stiffness", p.waistband_anchor_stiffness()));
+  if (!v1::Factorization_IsValid(p.factorization())) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("drape setting factorization = ", p.factorization(), " is not known"));
+  }
   RETURN_IF_ERROR(CheckPositive("contact_stiffness", p.contact_stiffness()));
   RETURN_IF_ERROR(CheckNonNegative("collision_offset", p.collision_offset()));
   RETURN_IF_ERROR(CheckPositive("collision_search", p.collision_search()));
@@ -99,9 +115,17 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
                             .bending_rigidity = p.bending_rigidity(),
                             .anchor_stiffness = p.anchor_stiffness(),
                             .skin_tie = p.skin_tie(),
+                            .tie_limit = p.tie_limit(),
+                            .waistband_grip = p.waistband_grip(),
+                            .waistband_stiffness = p.waistband_stiffness(),
+                            .waistband_anchor_stiffness = p.waistband_anchor_stiffness(),
                             .contact_stiffness = p.contact_stiffness(),
                             .collision_offset = p.collision_offset(),
-                            .collision_search = p.collision_search()};
+                            .collision_search = p.collision_search(),
+                            .factorization =
+                                p.factorization() == v1::FACTORIZATION_SUPERNODAL_CHOLMOD
+                                    ? Factorization::kSupernodalCholmod
+                                    : Factorization::kSimplicialLdlt};
   *schedule = DrapeSchedule{.homotopy_steps = static_cast<int>(p.homotopy_steps()),
                             .relax_steps = static_cast<int>(p.relax_steps())};
   return absl::OkStatus();

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "core/body_measurements.h"
+
 namespace fitbase::workers {
 namespace {
 
@@ -17,6 +19,45 @@ double Mean(const std::vector<double>& values) {
 }
 
 }  // namespace
+
+SupportHeights MeasureSupports(const ClothModel& model,
+                               const std::vector<int32_t>& waistband_edges,
+                               const core::Positions& mean_body, const core::Positions& positions,
+                               const core::Positions& body) {
+  using core::BodyLandmarks;
+  auto mean_height = [&](const std::vector<int32_t>& vertices) {
+    double sum = 0;
+    for (int32_t v : vertices) sum += positions(v, 1);
+    return sum / static_cast<double>(vertices.size());
+  };
+  auto average = [](const std::vector<double>& values) -> std::optional<double> {
+    if (values.empty()) return std::nullopt;
+    double sum = 0;
+    for (double v : values) sum += v;
+    return sum / static_cast<double>(values.size());
+  };
+  const double crotch = mean_body(BodyLandmarks::kCrotch, 1);
+  const double underbust = mean_body(BodyLandmarks::kLeftUnderbust, 1);
+  const double neck_base =
+      0.5 * (body(BodyLandmarks::kNeckFront, 1) + body(BodyLandmarks::kNeckBack, 1));
+  std::vector<double> waistbands, collars, hems;
+  for (const Opening& opening : model.openings) {
+    if (opening.edges.empty() ||
+        !std::binary_search(waistband_edges.begin(), waistband_edges.end(), opening.edges[0])) {
+      continue;
+    }
+    waistbands.push_back(mean_height(opening.vertices) - body(BodyLandmarks::kNavel, 1));
+  }
+  for (const Opening& opening : model.openings) {
+    if (opening.highest_of_piece && opening.mean_height >= underbust) {
+      collars.push_back(mean_height(opening.vertices) - neck_base);
+    }
+    if (!opening.highest_of_piece && opening.mean_height < crotch) {
+      hems.push_back(mean_height(opening.vertices) - body(BodyLandmarks::kLeftAnkle, 1));
+    }
+  }
+  return {average(waistbands), average(collars), average(hems)};
+}
 
 double Quantile(std::vector<double> values, double q) {
   if (values.empty()) return 0.0;

@@ -3,12 +3,14 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "Eigen/Core"
 #include "core/body_skeleton.h"
 #include "core/mesh.h"
 #include "core/triangle_bvh.h"
+#include "workers/cloth_model.h"
 
 namespace fitbase::workers {
 
@@ -55,6 +57,23 @@ FitMetrics MeasureFit(const core::Positions& positions,
                       const std::vector<std::array<int32_t, 2>>& edges,
                       const Eigen::VectorXd& edge_rest, const core::TriangleBvh& body,
                       const std::vector<core::BodyRegion>& regions, double ease_search = 0.5);
+
+// Where a garment's supports sit on a body, by its landmarks (core::BodyLandmarks), m along
+// +y; empty where the garment has no such opening.
+struct SupportHeights {
+  std::optional<double> waistband_above_navel;  // Waistband openings' mean height (trousers).
+  std::optional<double> collar_above_neck_base; // A top's highest opening (above the underbust).
+  // Openings below the crotch that are not a piece's highest (a shoe's): trouser legs' hems.
+  std::optional<double> hem_above_ankle;
+};
+
+// model: the garment's cloth model; waistband_edges: WaistbandEdges of it; mean_body: the
+// body avatar the template sits on (13,380 x 3, m), which tells collars from other openings;
+// positions: the garment (V x 3, m) on `body` (13,380 x 3, m).
+SupportHeights MeasureSupports(const ClothModel& model,
+                               const std::vector<int32_t>& waistband_edges,
+                               const core::Positions& mean_body, const core::Positions& positions,
+                               const core::Positions& body);
 
 // The q-quantile (0..1) of `values` by nearest rank; 0 for none.
 double Quantile(std::vector<double> values, double q);

@@ -15,6 +15,8 @@
 namespace fitbase::workers {
 namespace {
 
+constexpr double kMmPerMeter = 1000.0;
+
 // What every fit of one garment needs, decoded and validated from the message.
 struct PreparedGarment {
   core::GarmentMesh template_mesh;
@@ -25,6 +27,7 @@ struct PreparedGarment {
   core::Triangles body_triangles;
   Eigen::VectorXd edge_rest;
   Eigen::VectorXd hinge_rest;
+  std::vector<int32_t> waistband_edges;
 };
 
 absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string_view size,
@@ -51,6 +54,7 @@ absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string
   const core::Positions& rest = g.template_mesh.mesh.positions;
   ASSIGN_OR_RETURN(g.model, BuildClothModel(rest, g.template_mesh.mesh.faces, areal_density));
   ASSIGN_OR_RETURN(g.regions, proto::RegionsFromProto(garment));
+  ASSIGN_OR_RETURN(g.waistband_edges, WaistbandEdges(g.model, g.mean_body));
   if (garment_size->has_rest()) {
     ASSIGN_OR_RETURN(core::Mesh size_mesh, proto::MeshFromProto(garment_size->rest()));
     if (size_mesh.vertex_count() != rest.rows()) {
@@ -99,6 +103,18 @@ v1::DrapeReport ReportOf(const v1::Garment& garment, absl::string_view size,
   return r;
 }
 
+void SetSupports(const SupportHeights& supports, v1::DrapeReport* report) {
+  if (supports.waistband_above_navel) {
+    report->set_waistband_above_navel_mm(kMmPerMeter * *supports.waistband_above_navel);
+  }
+  if (supports.collar_above_neck_base) {
+    report->set_collar_above_neck_base_mm(kMmPerMeter * *supports.collar_above_neck_base);
+  }
+  if (supports.hem_above_ankle) {
+    report->set_hem_above_ankle_mm(kMmPerMeter * *supports.hem_above_ankle);
+  }
+}
+
 }  // namespace
 
 absl::StatusOr<const v1::GarmentSize*> FindGarmentSize(const v1::Garment& garment,
@@ -122,12 +138,15 @@ absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string
                    .start = g.template_mesh.mesh.positions,
                    .edge_rest = g.edge_rest,
                    .hinge_rest = g.hinge_rest,
+                   .waistband_edges = g.waistband_edges,
                    .regions = g.regions,
                    .mean_body = g.mean_body,
                    .target_body = target_body,
                    .body_triangles = g.body_triangles};
   ASSIGN_OR_RETURN(DrapeResult drape, Drape(input, settings, schedule));
   GarmentFit fit{std::move(drape.positions), ReportOf(garment, size, "drape", drape.metrics)};
+  SetSupports(MeasureSupports(g.model, g.waistband_edges, g.mean_body, fit.positions, target_body),
+              &fit.report);
   fit.report.set_converged_max_move_mm(drape.converged_max_move_mm);
   fit.report.set_steps(static_cast<uint32_t>(drape.steps));
   fit.report.set_seconds(drape.seconds);
@@ -161,6 +180,8 @@ absl::StatusOr<GarmentFit> GeometricFit(const v1::Garment& garment, absl::string
   ASSIGN_OR_RETURN(core::TriangleBvh target_bvh, core::TriangleBvh::Build(target_body, g.body_triangles));
   fit.report = ReportOf(garment, size, "geometric",
                         MeasureFit(fit.positions, g.model.edges, g.edge_rest, target_bvh, g.regions));
+  SetSupports(MeasureSupports(g.model, g.waistband_edges, g.mean_body, fit.positions, target_body),
+              &fit.report);
   fit.report.set_seconds(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return fit;

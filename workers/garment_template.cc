@@ -1,5 +1,6 @@
 #include "workers/garment_template.h"
 
+#include "core/body_model.h"
 #include "core/status_macros.h"
 #include "core/triangle_bvh.h"
 #include "workers/cloth_model.h"
@@ -21,11 +22,17 @@ absl::StatusOr<core::Positions> FitTemplateToBody(const core::Positions& placed,
   }
   ASSIGN_OR_RETURN(ClothModel model, BuildClothModel(placed, faces, settings.areal_density));
   ASSIGN_OR_RETURN(core::TriangleBvh bvh, core::TriangleBvh::Build(body, body_triangles));
+  // The relaxation runs with friction and no skin ties, so trousers need their waistband to
+  // stay up; a body without the avatar's landmarks (a test shape) has none.
+  std::vector<int32_t> waistband;
+  if (body.rows() == core::kBodyVertexCount) {
+    ASSIGN_OR_RETURN(waistband, WaistbandEdges(model, body));
+  }
   ClothSolver pusher(model, placed, PairLengths(placed, model.edges),
-                     HingeAngles(placed, model.hinges), bvh, settings);
+                     HingeAngles(placed, model.hinges), waistband, bvh, settings);
   pusher.ResolveCollisions(bvh, kTemplatePushSearch, settings.collision_offset);
   ClothSolver solver(model, pusher.positions(), PairLengths(rest, model.edges),
-                     HingeAngles(rest, model.hinges), bvh, settings);
+                     HingeAngles(rest, model.hinges), waistband, bvh, settings);
   for (int step = 0; step < relax_steps; ++step) solver.Step(bvh);
   solver.ResolveCollisions(bvh, kTemplatePushSearch, settings.collision_offset);
   return solver.positions();

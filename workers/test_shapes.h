@@ -47,6 +47,21 @@ inline core::Mesh UvSphere(double radius, int rings = 16, int segments = 24,
   return mesh;
 }
 
+// A closed body of revolution around the y axis, `half_height` above and below its waist of
+// `waist_radius`, widening away from it like hips and a chest (the sphere's rings at unit
+// height y have radius sin(theta) * (waist_radius + flare * y^2)): where a waistband sits.
+inline core::Mesh Hourglass(double waist_radius, double flare, double half_height,
+                            int rings = 24, int segments = 32) {
+  core::Mesh mesh = UvSphere(1.0, rings, segments);
+  for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
+    const double y = mesh.positions(v, 1);
+    const double widen = waist_radius + flare * y * y;
+    mesh.positions.row(v) = Eigen::RowVector3d(widen * mesh.positions(v, 0), half_height * y,
+                                               widen * mesh.positions(v, 2));
+  }
+  return mesh;
+}
+
 // An open tube (quads) of `radius` around the y axis from y0 (bottom) to y1 (top).
 inline core::Mesh Tube(double radius, double y0, double y1, int rows = 8, int segments = 24) {
   core::Mesh mesh;
