@@ -1,18 +1,31 @@
 // The distributed build's scaling on this machine:
 //   fitbase_build_bench --data DIR [--garment female_sportsuit01] [--components 10]
 //                       [--max-workers 2] [--homotopy-steps 20] [--relax-steps 5]
+//                       [--queue-tasks 10000 --lease-workers 64 [--cached-plans 4]]
 // Builds one garment's size M (2N + 1 drapes) through a real coordinator on 127.0.0.1 with
 // 1, then 2, ... workers (one slot each, in this process), each run on a fresh store so no
 // drape is a cache hit, and prints per run the wall time of the drapes, the speed-up over one
 // worker, and the coordinator's overhead per task: the time a worker spends per task outside
 // its drape (lease, spec transfer, completion, synced store writes), against the drape time.
+//
+// With --queue-tasks, the coordinator at scale instead: builds of sizes M and XL (each schedule
+// another, so every task is a drape of its own) until that many tasks are queued, then
+// --lease-workers workers with a stub drape (tests/stub_workers.h: lease, heartbeat, a
+// completion under a foreign token, then the template positions as the result) leasing at once
+// over gRPC. Prints the rates, this process's memory (coordinator and workers) queued and at
+// the end, the store's size, and checks every task was leased once and completed once.
 #include <filesystem>
 #include <iostream>
+#include <set>
 #include <thread>
 
 #include "CLI/CLI.hpp"
+#include "absl/strings/ascii.h"
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_split.h"
+#include "absl/strings/strip.h"
 #include "absl/time/clock.h"
 #include "core/body_model.h"
 #include "core/file_util.h"
@@ -26,6 +39,7 @@
 #include "services/build/coordinator_server.h"
 #include "services/rpc/call_auth.h"
 #include "services/rpc/channel.h"
+#include "tests/stub_workers.h"
 #include "workers/drape.h"
 #include "workers/drape_worker.h"
 
@@ -42,6 +56,9 @@ struct Flags {
   int max_workers = 2;
   int homotopy_steps = workers::DrapeSchedule{}.homotopy_steps;
   int relax_steps = workers::DrapeSchedule{}.relax_steps;
+  int queue_tasks = 0;
+  int lease_workers = 64;
+  int cached_plans = static_cast<int>(build::CoordinatorOptions{}.cached_plans);
 };
 
 struct Run {
@@ -52,8 +69,9 @@ struct Run {
   int tasks = 0;
 };
 
-absl::StatusOr<Run> BuildWith(int worker_count, const Flags& flags, const v1::AvatarBasis& basis,
-                              const v1::Garment& garment, const std::filesystem::path& db) {
+// A coordinator on a fresh store at `db`, on a free port, with the bench's admin and worker keys.
+build::CoordinatorServerOptions FreshServerOptions(const Flags& flags,
+                                                   const std::filesystem::path& db) {
   std::filesystem::remove_all(db);
   build::CoordinatorServerOptions options;
   options.db = db;
@@ -61,6 +79,12 @@ absl::StatusOr<Run> BuildWith(int worker_count, const Flags& flags, const v1::Av
   options.data_dir = flags.data;
   options.keys.AddKey(kAdminKey, {"bench", rpc::Role::kAdmin});
   options.keys.AddKey(kWorkerKey, {"bench", rpc::Role::kWorker});
+  return options;
+}
+
+absl::StatusOr<Run> BuildWith(int worker_count, const Flags& flags, const v1::AvatarBasis& basis,
+                              const v1::Garment& garment, const std::filesystem::path& db) {
+  build::CoordinatorServerOptions options = FreshServerOptions(flags, db);
   auto server = build::CoordinatorServer::Start(std::move(options));
   if (!server.ok()) return server.status();
   storage::AssetStore& store = (*server)->store();
@@ -141,6 +165,144 @@ absl::StatusOr<Run> BuildWith(int worker_count, const Flags& flags, const v1::Av
   return run;
 }
 
+// This process's resident memory now and at its peak, MB.
+std::pair<double, double> MemoryMb() {
+  double now = 0, peak = 0;
+  const absl::StatusOr<std::string> status = core::ReadFileToString("/proc/self/status");
+  if (!status.ok()) return {0, 0};
+  for (absl::string_view line : absl::StrSplit(*status, '\n')) {
+    for (auto [field, value] : {std::pair{"VmRSS:", &now}, {"VmHWM:", &peak}}) {
+      int64_t kb = 0;
+      if (absl::ConsumePrefix(&line, field) &&
+          absl::SimpleAtoi(absl::StripSuffix(absl::StripAsciiWhitespace(line), " kB"), &kb)) {
+        *value = kb / 1024.0;
+      }
+    }
+  }
+  return {now, peak};
+}
+
+uintmax_t FolderBytes(const std::filesystem::path& folder) {
+  uintmax_t bytes = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder)) {
+    if (entry.is_regular_file()) bytes += entry.file_size();
+  }
+  return bytes;
+}
+
+absl::Status ScaleRun(const Flags& flags, const v1::AvatarBasis& basis,
+                      const v1::Garment& garment, const std::filesystem::path& db) {
+  build::CoordinatorServerOptions options = FreshServerOptions(flags, db);
+  options.coordinator.cached_plans = static_cast<size_t>(flags.cached_plans);
+  ASSIGN_OR_RETURN(std::unique_ptr<build::CoordinatorServer> server,
+                   build::CoordinatorServer::Start(std::move(options)));
+  build::Coordinator& coordinator = server->coordinator();
+  storage::AssetStore& store = server->store();
+  RETURN_IF_ERROR(store.PublishAvatarBasis("bench", "women", basis.id(),
+                                           proto::SerializeDeterministically(basis)));
+  RETURN_IF_ERROR(
+      store.PutGarment("bench", garment.id(), proto::SerializeDeterministically(garment)));
+  const auto [start_mb, start_peak_mb] = MemoryMb();
+
+  const absl::Time submit_start = absl::Now();
+  std::vector<v1::Build> builds;
+  int64_t queued = 0;
+  for (uint32_t relax = 1; queued < flags.queue_tasks; ++relax) {
+    v1::BuildRequest request;
+    request.set_garment_id(garment.id());
+    request.add_sizes("M");
+    request.add_sizes("XL");
+    request.set_homotopy_steps(static_cast<uint32_t>(flags.homotopy_steps));
+    request.set_relax_steps(relax);
+    ASSIGN_OR_RETURN(v1::Build build, coordinator.Submit("bench", request));
+    queued += build.tasks_total() - build.tasks_done();
+    builds.push_back(std::move(build));
+  }
+  const double submit_seconds = absl::ToDoubleSeconds(absl::Now() - submit_start);
+  const auto [queued_mb, queued_peak_mb] = MemoryMb();
+
+  const absl::Time lease_start = absl::Now();
+  StubWorkers workers(absl::StrCat("127.0.0.1:", server->port()), kWorkerKey,
+                      flags.lease_workers);
+  pipeline::ProgressReporter progress("tasks leased and completed", queued, std::cerr,
+                                      pipeline::StderrIsTerminal());
+  for (const v1::Build& build : builds) {
+    build::BuildSnapshot snapshot;
+    while (snapshot.build.tasks_done() < build.tasks_total()) {
+      ASSIGN_OR_RETURN(snapshot, coordinator.WaitForBuild("bench", build.build_id(),
+                                                          snapshot.revision,
+                                                          absl::Now() + absl::Minutes(10)));
+      if (snapshot.build.phase() == v1::BUILD_FAILED) {
+        return absl::InternalError(absl::StrCat("build ", build.build_id(), " failed: ",
+                                                snapshot.build.error()));
+      }
+      progress.Update(workers.completed());
+    }
+  }
+  const double lease_seconds = absl::ToDoubleSeconds(absl::Now() - lease_start);
+  progress.Finish();
+  const StubWorkers::Report report = workers.Stop();
+  const auto [done_mb, peak_mb] = MemoryMb();
+
+  int64_t leased_more_than_once = 0, not_stored = 0;
+  std::set<std::string> keys;
+  for (const v1::Build& build : builds) {
+    ASSIGN_OR_RETURN(build::BuildSnapshot snapshot,
+                     coordinator.GetBuild("bench", build.build_id(), /*with_tasks=*/true));
+    for (const v1::Task& task : snapshot.tasks) {
+      leased_more_than_once += task.phase() != v1::TASK_DONE || task.leases() != 1;
+      not_stored += !store.GetDrapeResult(task.drape_key()).ok();
+      keys.insert(task.drape_key());
+    }
+  }
+  int64_t completed_twice = 0;
+  for (const auto& [key, times] : report.completions) completed_twice += times != 1;
+  const uintmax_t store_bytes = FolderBytes(db);
+  const int64_t assembling = std::count_if(builds.begin(), builds.end(), [&](const v1::Build& b) {
+    auto s = coordinator.GetBuild("bench", b.build_id(), false);
+    return s.ok() && s->build.phase() == v1::BUILD_ASSEMBLING;
+  });
+  server->Shutdown(absl::Seconds(1));
+
+  std::cout << absl::StrFormat(
+      "coordinator at scale: %d builds of %s sizes M and XL (N = %d, %d drapes each), %d "
+      "tasks queued, %d stub workers leasing at once over gRPC, %d plans cached, %u cores\n\n",
+      builds.size(), flags.garment, basis.component_count(), builds[0].tasks_total(), queued,
+      flags.lease_workers, flags.cached_plans, std::thread::hardware_concurrency());
+  std::cout << "| figure | value |\n|---|---|\n";
+  const auto row = [](absl::string_view name, const std::string& value) {
+    std::cout << "| " << name << " | " << value << " |\n";
+  };
+  row("submit (plan, synced write) per build",
+      absl::StrFormat("%.1f ms", 1e3 * submit_seconds / builds.size()));
+  row("leased and completed", absl::StrFormat("%d tasks in %.1f s: %.0f tasks/s",
+                                              report.completed, lease_seconds,
+                                              report.completed / lease_seconds));
+  row("RSS before submitting", absl::StrFormat("%.0f MB", start_mb));
+  row("RSS with every task queued", absl::StrFormat("%.0f MB (+%.1f KB per task)", queued_mb,
+                                                    1024 * (queued_mb - start_mb) / queued));
+  row("RSS at the end, peak", absl::StrFormat("%.0f MB, %.0f MB", done_mb, peak_mb));
+  row("store on disk", absl::StrFormat("%.0f MB (%.1f KB per drape result)",
+                                       store_bytes / 1048576.0,
+                                       store_bytes / 1024.0 / static_cast<double>(keys.size())));
+  row("builds still assembling at the end", absl::StrCat(assembling));
+  row("distinct drape keys / tasks", absl::StrCat(keys.size(), " / ", queued));
+  row("tasks not done or leased more than once", absl::StrCat(leased_more_than_once));
+  row("keys leased while another worker held them", absl::StrCat(report.concurrent_double_leases));
+  row("completions accepted under a foreign token", absl::StrCat(report.foreign_tokens_accepted));
+  row("keys completed other than once", absl::StrCat(completed_twice));
+  row("results missing from the store", absl::StrCat(not_stored));
+  row("failed worker calls",
+      absl::StrCat(report.failed_calls,
+                   report.failed_calls > 0 ? " (" + report.first_failure + ")" : std::string()));
+  if (leased_more_than_once + report.concurrent_double_leases + report.foreign_tokens_accepted +
+          completed_twice + not_stored + report.failed_calls >
+      0 || static_cast<int64_t>(keys.size()) != queued) {
+    return absl::InternalError("the lease rules were broken: see the table");
+  }
+  return absl::OkStatus();
+}
+
 absl::Status Main(const Flags& flags) {
   ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(flags.data));
   std::cerr << "avatar basis of 60 women with " << flags.components << " components...\n";
@@ -155,10 +317,16 @@ absl::Status Main(const Flags& flags) {
                    pipeline::ReadGarmentImportFiles(
                        {.mhclo = dir / (flags.garment + ".mhclo"), .obj = {}, .size_meshes = {}}));
   import.sizes = {"M"};
+  if (flags.queue_tasks > 0) import.sizes.push_back("XL");
   ASSIGN_OR_RETURN(v1::Garment garment, pipeline::ImportGarment(model, basis, import));
   const std::filesystem::path scratch =
       std::filesystem::temp_directory_path() / absl::StrCat("fitbase-build-bench-", getpid());
   std::filesystem::create_directories(scratch);
+  if (flags.queue_tasks > 0) {
+    const absl::Status status = ScaleRun(flags, basis, garment, scratch / "db");
+    std::filesystem::remove_all(scratch);
+    return status;
+  }
   std::vector<Run> runs;
   for (int workers = 1; workers <= flags.max_workers; ++workers) {
     ASSIGN_OR_RETURN(Run run, BuildWith(workers, flags, basis, garment,
@@ -199,6 +367,12 @@ int main(int argc, char** argv) {
   app.add_option("--max-workers", flags.max_workers, "Runs with 1..this many workers");
   app.add_option("--homotopy-steps", flags.homotopy_steps, "Drape schedule");
   app.add_option("--relax-steps", flags.relax_steps, "Drape schedule");
+  app.add_option("--queue-tasks", flags.queue_tasks,
+                 "The coordinator at scale instead: queue this many tasks first");
+  app.add_option("--lease-workers", flags.lease_workers,
+                 "At scale: stub workers leasing at once (default 64)");
+  app.add_option("--cached-plans", flags.cached_plans,
+                 "At scale: build plans the coordinator keeps (default 4)");
   CLI11_PARSE(app, argc, argv);
   if (const absl::Status status = fitbase::Main(flags); !status.ok()) {
     std::cerr << "fitbase_build_bench: " << status << "\n";

@@ -41,6 +41,7 @@ struct ServeFlags {
   std::string fit_listen = "127.0.0.1:7402";
   std::string db_mode = "secondary";
   int64_t cache_mb = 1024;
+  int max_calls = fit::FitServiceOptions{}.max_calls_in_flight;
   rpc::TlsFiles tls;
   std::string tls_target_name;
 };
@@ -79,6 +80,9 @@ absl::Status CheckCommon(const ServeFlags& flags) {
   }
   if (flags.cache_mb < 1 || flags.cache_mb > (int64_t{1} << 20)) {
     return absl::InvalidArgumentError("--cache-mb must be within [1, 1048576]");
+  }
+  if (flags.max_calls < 0 || flags.max_calls > 100000) {
+    return absl::InvalidArgumentError("--max-calls must be within [0, 100000]");
   }
   if (flags.workers < 0 || flags.workers > 64) {
     return absl::InvalidArgumentError("--workers must be within [0, 64]");
@@ -177,6 +181,7 @@ fit::FitServerOptions FitOptions(const ServeFlags& flags, rpc::ApiKeyRegistry ke
   fit::FitServerOptions options;
   options.keys = std::move(keys);
   options.catalog.max_bytes = static_cast<size_t>(flags.cache_mb) << 20;
+  options.service.max_calls_in_flight = flags.max_calls;
   return options;
 }
 
@@ -262,6 +267,9 @@ void AddServeCommand(CLI::App& app, CliContext& context) {
                       "--blob-files false) or readonly (a checkpoint); default secondary");
   command->add_option("--cache-mb", flags->cache_mb,
                       "fit, all: cache of parsed bases, MB (default 1024)");
+  command->add_option("--max-calls", flags->max_calls,
+                      "fit, all: fit calls admitted at once (running or queued); more are "
+                      "RESOURCE_EXHAUSTED at once (default 0: 8 per core)");
   command->add_option("--listen", flags->listen,
                       "coordinator, fit, all: host:port to serve on (port 0: any free port; "
                       "default 127.0.0.1:7401)");

@@ -1,6 +1,7 @@
 #include "core/obj_io.h"
 
 #include <cmath>
+#include <sstream>
 #include <string>
 
 #include "OpenMesh/Core/IO/MeshIO.hh"
@@ -42,15 +43,20 @@ absl::StatusOr<Mesh> ReadObj(const std::filesystem::path& path) {
   if (!std::filesystem::is_regular_file(path)) {
     return absl::NotFoundError(absl::StrCat("no mesh file ", path.string()));
   }
+  ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
+  // Debian's OpenMesh asserts, aborting the process, on some malformed lines (a face line
+  // without a vertex index): fitbase's own parser checks every line first and names the bad
+  // one. OpenMesh then reads the same bytes, never the file again.
+  RETURN_IF_ERROR(ParseGarmentObj(text, path.string()).status());
   OpenMeshPolyMesh om;
   OpenMesh::IO::Options options;
-  if (!OpenMesh::IO::read_mesh(om, path.string(), options)) {
+  std::istringstream stream(text);
+  if (!OpenMesh::IO::read_mesh(om, stream, "obj", options)) {
     return absl::InvalidArgumentError(absl::StrCat("OpenMesh cannot read ", path.string()));
   }
   if (om.n_vertices() == 0) {
     return absl::InvalidArgumentError(absl::StrCat(path.string(), " has no vertices"));
   }
-  ASSIGN_OR_RETURN(std::string text, ReadFileToString(path));
   const ElementCounts counts = CountObjElements(text);
   if (counts.vertices != static_cast<int64_t>(om.n_vertices())) {
     return absl::InvalidArgumentError(absl::StrCat(

@@ -11,7 +11,8 @@ namespace fitbase::core {
 
 // Reads a Wavefront OBJ through OpenMesh. Vertex order and the corner order of each face are
 // kept as in the file. Positions are returned in the file's units; `topology_id` stays empty.
-// Errors: unreadable file, no vertices, non-finite coordinates.
+// Errors: unreadable file, no vertices, non-finite coordinates, a malformed line (as
+// ParseGarmentObj names it: a face with fewer than 3 corners or an undefined index, ...).
 absl::StatusOr<Mesh> ReadObj(const std::filesystem::path& path);
 
 // Writes positions (9 significant digits, enough to round-trip float32) and faces, in order,

@@ -62,5 +62,18 @@ TEST(ObjIoTest, MissingOrEmptyFile) {
   EXPECT_EQ(ReadObj(TempPath("empty.obj")).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
+// Found by fuzz/body_obj_fuzzer: a face line with no vertex index made Debian's OpenMesh
+// fail an assertion and abort the process.
+TEST(ObjIoTest, FaceLineWithoutIndicesIsAnErrorNamingTheLine) {
+  const auto path = TempPath("bad-face.obj");
+  ASSERT_TRUE(
+      WriteFileAtomically(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf  of this repository.\n")
+          .ok());
+  auto mesh = ReadObj(path);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_EQ(mesh.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(mesh.status().message(), ::testing::HasSubstr("line 5"));
+}
+
 }  // namespace
 }  // namespace fitbase::core

@@ -167,6 +167,17 @@ TEST_F(ClothingCliTest, BadInputsAreNamed) {
   EXPECT_THAT(r.err, HasSubstr("unknown clothing method 'cubic'"));
   EXPECT_FALSE(fs::exists(Path("x.fbc")));
   EXPECT_FALSE(fs::exists(Path("x.obj")));
+
+  // A clothing basis cut short (an interrupted copy) is named, never read as far as it goes.
+  const std::string whole = *core::ReadFileToString(Path("q.fbc"));
+  ASSERT_TRUE(
+      core::WriteFileAtomically(Path("cut.fbc"), whole.substr(0, whole.size() / 2)).ok());
+  r = RunFitbase({"fit", "--clothing", Path("cut.fbc"), "--weights", Path("three.json"),
+                  "--out", Path("x.obj")});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.err, HasSubstr("cut.fbc"));
+  EXPECT_THAT(r.err, HasSubstr("fitbase.v1.ClothingBasis"));
+  EXPECT_FALSE(fs::exists(Path("x.obj")));
 }
 
 TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {

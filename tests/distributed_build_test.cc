@@ -1,6 +1,7 @@
 // The distributed build in one process: a real coordinator server on 127.0.0.1 with a real
 // RocksDB store, real drape workers, and raw WorkerQueue clients where a test must act as a
 // worker that misbehaves. Faults across processes are in build_faults_test.
+#include <limits>
 #include <thread>
 
 #include "core/file_util.h"
@@ -12,6 +13,7 @@
 #include "services/rpc/tls_credentials.h"
 #include "storage/asset_store.h"
 #include "tests/build_cluster.h"
+#include "tests/stub_workers.h"
 #include "workers/drape_worker.h"
 
 namespace fitbase {
@@ -285,6 +287,49 @@ TEST_F(DistributedBuildTest, AReturnedLeaseCountsNoAttempt) {
   EXPECT_EQ(again.lease().attempt(), 1u);
 }
 
+// The coordinator at scale, smaller: many builds queued, then many workers leasing at once
+// over gRPC (fitbase_build_bench runs 10,000 tasks and 64 workers).
+TEST_F(DistributedBuildTest, ManyWorkersLeasingAtOnceCompleteEveryTaskExactlyOnce) {
+  constexpr int kBuilds = 20;
+  std::vector<v1::Build> builds;
+  for (int i = 0; i < kBuilds; ++i) {
+    v1::SubmitBuildRequest request = SmallBuild(garment_.id());
+    // Another schedule is another drape key: every task is a drape of its own.
+    request.mutable_request()->set_relax_steps(static_cast<uint32_t>(1 + i));
+    builds.push_back(Submit(request));
+    ASSERT_EQ(builds.back().cache_hits(), 0u);
+  }
+  StubWorkers workers(address_, TestKeys::kWorker, 16);
+  for (const v1::Build& build : builds) {
+    build::BuildSnapshot snapshot;
+    while (snapshot.build.tasks_done() < build.tasks_total() &&
+           snapshot.build.phase() != v1::BUILD_FAILED) {
+      auto next = server_->coordinator().WaitForBuild("acme", build.build_id(),
+                                                      snapshot.revision,
+                                                      absl::Now() + absl::Seconds(120));
+      ASSERT_TRUE(next.ok()) << next.status();
+      snapshot = *std::move(next);
+    }
+    ASSERT_NE(snapshot.build.phase(), v1::BUILD_FAILED) << snapshot.build.error();
+  }
+  const StubWorkers::Report report = workers.Stop();
+  EXPECT_EQ(report.failed_calls, 0) << report.first_failure;
+  EXPECT_EQ(report.concurrent_double_leases, 0);
+  EXPECT_EQ(report.foreign_tokens_accepted, 0);
+  EXPECT_EQ(report.completed, 5 * kBuilds);
+  EXPECT_EQ(report.completions.size(), 5u * kBuilds);
+  for (const auto& [key, times] : report.completions) EXPECT_EQ(times, 1) << key;
+  for (const v1::Build& build : builds) {
+    const v1::GetBuildResponse state = Get(build.build_id());
+    for (const v1::Task& task : state.tasks()) {
+      EXPECT_EQ(task.phase(), v1::TASK_DONE) << task.task_id();
+      EXPECT_EQ(task.leases(), 1u) << task.task_id();
+      EXPECT_TRUE(report.completions.contains(task.drape_key()));
+      EXPECT_TRUE(server_->store().GetDrapeResult(task.drape_key()).ok());
+    }
+  }
+}
+
 TEST_F(DistributedBuildTest, ARestartedCoordinatorResumesWithoutRedoingDoneTasks) {
   const v1::Build build = Submit(SmallBuild(garment_.id()));
   const v1::LeaseTaskResponse done = Lease();
@@ -427,6 +472,20 @@ TEST_F(DistributedBuildTest, BadInputGetsTheRightCodeAndLeavesTheStoreUnchanged)
       EXPECT_EQ(task.attempts(), 1u);
     }
   }
+  // So is a result with a position that is not finite.
+  const v1::LeaseTaskResponse next = Lease();
+  ASSERT_TRUE(next.has_lease());
+  complete.set_key(next.lease().key());
+  complete.set_token(next.lease().token());
+  complete.mutable_result()->set_key(next.lease().key());
+  complete.mutable_result()->mutable_positions()->Resize(
+      3 * static_cast<int>(garment_.template_mesh().vertex_count()), 0.0f);
+  complete.mutable_result()->set_positions(4, std::numeric_limits<float>::infinity());
+  const grpc::Status not_finite =
+      clients_->queue->CompleteTask(Call(TestKeys::kWorker).get(), complete, &completed);
+  EXPECT_EQ(not_finite.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(not_finite.error_message(), HasSubstr("non-finite"));
+  EXPECT_FALSE(server_->store().GetDrapeResult(next.lease().key()).ok());
   EXPECT_EQ(*server_->store().ListGarmentIds("acme"), std::vector<std::string>{garment_.id()});
   EXPECT_TRUE(server_->store().ListGarmentIds("rival")->empty());
   EXPECT_EQ(server_->store().ListBuilds()->size(), 1u);

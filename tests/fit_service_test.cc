@@ -2,6 +2,7 @@
 // clothing basis into a real RocksDB store, and a real fit server on 127.0.0.1 answers a
 // customer's calls, compared with the local `fitbase fit`.
 #include <cmath>
+#include <limits>
 #include <thread>
 
 #include "absl/strings/str_format.h"
@@ -286,6 +287,19 @@ TEST_F(FitServiceTest, BadInputGetsClearCodesWhileOthersAreServed) {
   nan.mutable_avatar()->mutable_positions()->mutable_raw()->set_xyz(7, std::nanf(""));
   EXPECT_EQ(stub_->ProjectAvatar(Call(TestKeys::kCustomer).get(), nan, &ignored).error_code(),
             grpc::StatusCode::INVALID_ARGUMENT);
+  v1::ProjectAvatarRequest inf = AvatarRequest(1, false);
+  inf.mutable_avatar()->mutable_positions()->mutable_raw()->set_xyz(
+      11, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(stub_->ProjectAvatar(Call(TestKeys::kCustomer).get(), inf, &ignored).error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+  v1::ProjectAvatarRequest truncated = AvatarRequest(1, true);
+  std::string* draco = truncated.mutable_avatar()->mutable_positions()->mutable_draco()
+                           ->mutable_data();
+  draco->resize(draco->size() / 2);
+  const grpc::Status cut =
+      stub_->ProjectAvatar(Call(TestKeys::kCustomer).get(), truncated, &ignored);
+  EXPECT_EQ(cut.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(cut.error_message(), HasSubstr("Draco"));
   v1::ProjectAvatarRequest oversize = AvatarRequest(1, false);
   oversize.mutable_avatar()->mutable_positions()->mutable_raw()->mutable_xyz()->Resize(
       2 << 20, 0.5f);
@@ -305,6 +319,17 @@ TEST_F(FitServiceTest, BadInputGetsClearCodesWhileOthersAreServed) {
   v1::FitGarmentRequest nan_weights = request;
   nan_weights.mutable_weights()->set_weights(0, std::nan(""));
   EXPECT_EQ(FitCode(nan_weights), grpc::StatusCode::INVALID_ARGUMENT);
+  v1::FitGarmentRequest inf_weights = request;
+  inf_weights.mutable_weights()->set_weights(1, -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(FitCode(inf_weights), grpc::StatusCode::INVALID_ARGUMENT);
+  v1::FitOutfitRequest huge_outfit;
+  *huge_outfit.mutable_weights() = projection.weights();
+  for (int i = 0; i < 65; ++i) huge_outfit.add_items()->set_garment_id(garment_.id());
+  v1::FitOutfitResponse outfit;
+  const grpc::Status too_many =
+      stub_->FitOutfit(Call(TestKeys::kCustomer).get(), huge_outfit, &outfit);
+  EXPECT_EQ(too_many.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_THAT(too_many.error_message(), HasSubstr("at most 64"));
   v1::FitGarmentRequest old_basis = request;
   old_basis.mutable_weights()->set_basis_id("an-older-basis");
   v1::FittedGarment fitted;

@@ -40,7 +40,10 @@ void ClearLease(v1::Task& task) {
 }  // namespace
 
 Coordinator::Coordinator(storage::AssetStore* store, const CoordinatorOptions& options)
-    : store_(store), options_(options), clock_(options.clock ? options.clock : &real_clock_) {}
+    : store_(store),
+      options_(options),
+      clock_(options.clock ? options.clock : &real_clock_),
+      plans_(options.cached_plans) {}
 
 absl::StatusOr<std::unique_ptr<Coordinator>> Coordinator::Open(
     storage::AssetStore* store, const CoordinatorOptions& options) {
@@ -127,13 +130,12 @@ Coordinator::BuildRun* Coordinator::FindBuildLocked(absl::string_view tenant,
 }
 
 bool Coordinator::JoinExecutionLocked(BuildRun& run, const v1::Task& task,
-                                      const workers::DrapeTask* drape) {
+                                      int64_t vertex_count) {
   auto [it, created] = executions_.try_emplace(task.drape_key());
   Execution& execution = it->second;
   if (created) {
     execution.key = task.drape_key();
-    execution.plan = run.plan;
-    execution.task = drape;
+    execution.vertex_count = vertex_count;
     queue_.push_back(execution.key);
     queue_changed_.notify_one();
   }
@@ -180,14 +182,13 @@ absl::StatusOr<v1::Build> Coordinator::Submit(absl::string_view tenant,
   std::lock_guard lock(mutex_);
   RETURN_IF_ERROR(CheckUsableLocked());
   auto run = std::make_unique<BuildRun>();
-  run->plan = plan;
   v1::Build& build = run->build;
   build.set_build_id(absl::StrFormat("%s%06d", kBuildIdPrefix, next_build_number_));
   build.set_tenant(std::string(tenant));
   *build.mutable_request() = plan->request;
   build.set_phase(v1::BUILD_QUEUED);
   build.set_created_unix_ms(UnixMillis(Now()));
-  std::vector<std::pair<v1::Task*, const workers::DrapeTask*>> to_run;
+  std::vector<v1::Task*> to_run;
   for (const BuildPlan::Size& size : plan->sizes) {
     for (size_t i = 0; i < size.plan.tasks.size(); ++i) {
       const workers::DrapeTask& drape = size.plan.tasks[i];
@@ -206,7 +207,7 @@ absl::StatusOr<v1::Build> Coordinator::Submit(absl::string_view tenant,
         task.set_cache_hit(executions_.contains(drape.key));
       }
       v1::Task& placed = run->tasks[task.task_id()] = std::move(task);
-      if (placed.phase() == v1::TASK_QUEUED) to_run.emplace_back(&placed, &drape);
+      if (placed.phase() == v1::TASK_QUEUED) to_run.push_back(&placed);
     }
   }
   build.set_tasks_total(static_cast<uint32_t>(run->tasks.size()));
@@ -214,7 +215,8 @@ absl::StatusOr<v1::Build> Coordinator::Submit(absl::string_view tenant,
   for (const auto& [id, task] : run->tasks) hits += task.cache_hit();
   build.set_cache_hits(hits);
   ++next_build_number_;
-  for (auto& [task, drape] : to_run) JoinExecutionLocked(*run, *task, drape);
+  const int64_t vertex_count = plan->garment.template_mesh().vertex_count();
+  for (v1::Task* task : to_run) JoinExecutionLocked(*run, *task, vertex_count);
   MaybeAssembleLocked(*run);
 
   storage::AssetWrite write;
@@ -224,6 +226,7 @@ absl::StatusOr<v1::Build> Coordinator::Submit(absl::string_view tenant,
   BuildRun& placed = *(builds_[build.build_id()] = std::move(run));
   TouchLocked(placed);
   RETURN_IF_ERROR(CommitLocked(write, /*sync=*/true));
+  plans_.Put(placed.build.build_id(), plan);
   core::LogLine("build_submitted")
       .Add("build", placed.build.build_id())
       .Add("tenant", tenant)
@@ -398,12 +401,31 @@ absl::StatusOr<std::optional<LeasedTask>> Coordinator::Lease(absl::string_view w
   leased.lease.set_expiry_unix_ms(UnixMillis(execution.expiry));
   leased.lease.set_attempt(execution.attempts + 1);
   leased.lease.set_duration_ms(static_cast<uint32_t>(absl::ToInt64Milliseconds(options_.lease)));
-  std::shared_ptr<const BuildPlan> plan = execution.plan;
-  const workers::DrapeTask* task = execution.task;
+  // Any waiting build's task gives the spec: equal keys are equal content.
+  const BuildRun& run = *builds_.at(execution.waiters.front().build_id);
+  const v1::Task& task = run.tasks.at(execution.waiters.front().task_id);
+  const std::string build_id = run.build.build_id();
+  const std::string tenant = run.build.tenant();
+  const v1::BuildRequest request = run.build.request();
+  const std::string size = task.size();
+  const uint32_t example = task.example_index();
   lock.unlock();
-  // The spec copies the garment; the plan it points into stays alive through `plan`.
-  leased.spec = workers::DrapeTaskToSpec(*task);
-  return leased;
+  ASSIGN_OR_RETURN(std::shared_ptr<const BuildPlan> plan, PlanOf(build_id, tenant, request));
+  for (const BuildPlan::Size& planned : plan->sizes) {
+    if (planned.spec.size != size || example >= planned.plan.tasks.size()) continue;
+    const workers::DrapeTask& drape = planned.plan.tasks[example];
+    if (drape.key != leased.lease.key()) break;
+    leased.spec = workers::DrapeTaskToSpec(drape);
+    return leased;
+  }
+  return absl::InternalError(absl::StrCat("build ", build_id, " plans task ", size, "/",
+                                          example, " as another drape than ",
+                                          leased.lease.key()));
+}
+
+absl::StatusOr<std::shared_ptr<const BuildPlan>> Coordinator::PlanOf(
+    const std::string& build_id, const std::string& tenant, const v1::BuildRequest& request) {
+  return plans_.Get(build_id, [&] { return PlanBuild(*store_, tenant, request); });
 }
 
 absl::StatusOr<Coordinator::Execution*> Coordinator::FindLeaseLocked(absl::string_view key,
@@ -446,7 +468,7 @@ absl::Status Coordinator::Complete(absl::string_view key, uint64_t token,
     return absl::OkStatus();  // A repeated completion whose answer was lost.
   }
   ASSIGN_OR_RETURN(Execution * execution, FindLeaseLocked(key, token));
-  const int64_t vertex_count = execution->task->garment->template_mesh().vertex_count();
+  const int64_t vertex_count = execution->vertex_count;
   std::string problem;
   if (result.key() != key) {
     problem = absl::StrCat("the result is for task ", result.key());
@@ -558,14 +580,17 @@ void Coordinator::RunAssembler() {
 }
 
 void Coordinator::Assemble(const std::string& build_id) {
-  std::shared_ptr<const BuildPlan> plan;
+  std::string tenant;
+  v1::BuildRequest request;
   {
     std::lock_guard lock(mutex_);
-    plan = builds_.at(build_id)->plan;
+    tenant = builds_.at(build_id)->build.tenant();
+    request = builds_.at(build_id)->build.request();
   }
   const absl::Time start = absl::Now();
   std::vector<v1::PublishedClothingBasis> published;
   absl::Status status = [&]() -> absl::Status {
+    ASSIGN_OR_RETURN(std::shared_ptr<const BuildPlan> plan, PlanOf(build_id, tenant, request));
     ASSIGN_OR_RETURN(std::vector<v1::ClothingBasis> bases, AssembleBuild(*store_, *plan));
     for (const v1::ClothingBasis& basis : bases) {
       const storage::ClothingBasisKey key{plan->tenant, basis.garment_id(), basis.size(),
@@ -641,9 +666,9 @@ absl::Status Coordinator::RecoverBuild(BuildRun& run, storage::AssetWrite& write
                    write);
     return absl::OkStatus();
   }
-  run.plan = std::move(*plan);
+  std::shared_ptr<const BuildPlan> planned = *std::move(plan);
   std::map<std::string, const workers::DrapeTask*> drapes;
-  for (const BuildPlan::Size& size : run.plan->sizes) {
+  for (const BuildPlan::Size& size : planned->sizes) {
     for (size_t i = 0; i < size.plan.tasks.size(); ++i) {
       drapes[BuildTaskId(size.spec.size, i)] = &size.plan.tasks[i];
     }
@@ -666,7 +691,7 @@ absl::Status Coordinator::RecoverBuild(BuildRun& run, storage::AssetWrite& write
       continue;
     }
     ++resumed;
-    JoinExecutionLocked(run, task, drape->second);
+    JoinExecutionLocked(run, task, planned->garment.template_mesh().vertex_count());
     Execution& execution = executions_.at(task.drape_key());
     if (task.phase() == v1::TASK_LEASED && !execution.leased) {
       // The worker may still be draping: it gets a full lease period to report to us.
@@ -678,6 +703,7 @@ absl::Status Coordinator::RecoverBuild(BuildRun& run, storage::AssetWrite& write
   }
   MaybeAssembleLocked(run);
   PutRunLocked(run, write);
+  plans_.Put(run.build.build_id(), planned);
   core::LogLine("build_resumed")
       .Add("build", run.build.build_id())
       .Add("phase", v1::BuildPhase_Name(run.build.phase()))

@@ -23,6 +23,7 @@
 #include "fitbase/v1/clothing_basis.pb.h"
 #include "fitbase/v1/worker_queue.pb.h"
 #include "services/build/build_plan.h"
+#include "services/build/plan_cache.h"
 #include "services/rpc/clock.h"
 #include "storage/asset_store.h"
 
@@ -34,6 +35,9 @@ struct CoordinatorOptions {
   absl::Duration lease = absl::Seconds(30);
   // Failed or expired attempts after which a task, and every build waiting for it, fails.
   uint32_t max_attempts = 3;
+  // Build plans kept in memory (PlanCache): tens of MB each, while a queued task costs ~3 KB.
+  // Leases take tasks in submission order, so a few plans serve them all.
+  size_t cached_plans = 4;
 };
 
 // A build as seen at one moment, and the revision that moment has (for WaitForBuild).
@@ -65,6 +69,8 @@ struct LeasedTask {
 //   idempotent, so an assembly repeated after a crash publishes nothing new.
 // - All state lives in the store: Open() resumes every unfinished build, keeping its done tasks
 //   and its live leases (given one lease period from the restart to report back).
+// - Memory grows with the tasks (~3 KB each), not with their plans: the plan a
+//   lease or an assembly needs is planned again when it is not among the cached ones.
 //
 // Every method is thread-safe. Callers are authenticated: `tenant` is the caller's, and a build
 // of another tenant is NOT_FOUND.
@@ -107,7 +113,6 @@ class Coordinator {
   struct BuildRun {
     v1::Build build;
     std::map<std::string, v1::Task> tasks;  // By task id.
-    std::shared_ptr<const BuildPlan> plan;
     uint64_t revision = 0;
   };
   struct Waiter {
@@ -116,8 +121,7 @@ class Coordinator {
   };
   struct Execution {
     std::string key;
-    std::shared_ptr<const BuildPlan> plan;  // Of the first build that asked for it.
-    const workers::DrapeTask* task = nullptr;
+    int64_t vertex_count = 0;  // Of the garment: what a result must have.
     uint32_t attempts = 0;
     bool leased = false;
     uint64_t token = 0;
@@ -143,7 +147,11 @@ class Coordinator {
   BuildRun* FindBuildLocked(absl::string_view tenant, absl::string_view build_id) const;
   // Adds the task to the execution of its key, creating and queueing one when none is in
   // flight; true when it joined one.
-  bool JoinExecutionLocked(BuildRun& run, const v1::Task& task, const workers::DrapeTask* drape);
+  bool JoinExecutionLocked(BuildRun& run, const v1::Task& task, int64_t vertex_count);
+  // The build's plan, from the cache or planned again. Call without mutex_.
+  absl::StatusOr<std::shared_ptr<const BuildPlan>> PlanOf(const std::string& build_id,
+                                                         const std::string& tenant,
+                                                         const v1::BuildRequest& request);
   // Counts a failed attempt of the execution: requeues it, or fails it and its builds.
   absl::Status FailAttemptLocked(Execution& execution, const std::string& error);
   // Ends a build (failed or cancelled) and drops its unfinished tasks from their executions.
@@ -184,6 +192,7 @@ class Coordinator {
   uint64_t next_token_ = 1;
   uint64_t revision_ = 0;
   std::deque<std::string> assembly_queue_;
+  PlanCache plans_;
   std::thread assembler_;
 };
 

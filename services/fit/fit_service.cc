@@ -1,7 +1,9 @@
 #include "services/fit/fit_service.h"
 
+#include <algorithm>
 #include <cmath>
 #include <span>
+#include <thread>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -31,13 +33,6 @@ absl::Status CheckAlive(const grpc::CallbackServerContext& context) {
     return absl::DeadlineExceededError("the call's deadline passed");
   }
   return absl::OkStatus();
-}
-
-grpc::ServerUnaryReactor* Answer(grpc::CallbackServerContext* context,
-                                 const absl::Status& status) {
-  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  reactor->Finish(rpc::ToGrpcStatus(status));
-  return reactor;
 }
 
 // One garment size fitted to the weights, encoded as asked.
@@ -128,7 +123,38 @@ absl::StatusOr<std::shared_ptr<const ServedGarment>> GarmentForWeights(
   return garment;
 }
 
+int FitThreads(const FitServiceOptions& options) {
+  if (options.threads > 0) return options.threads;
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
 }  // namespace
+
+FitService::FitService(FitCatalog* catalog, const rpc::ApiKeyRegistry* keys,
+                       const FitServiceOptions& options)
+    : catalog_(catalog),
+      keys_(keys),
+      options_(options),
+      calls_(FitThreads(options), options.max_calls_in_flight > 0
+                                      ? options.max_calls_in_flight
+                                      : 8 * FitThreads(options)) {}
+
+grpc::ServerUnaryReactor* FitService::Admit(grpc::CallbackServerContext* context,
+                                            std::function<absl::Status()> work) {
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  const bool admitted = calls_.TryRun(
+      [this, work = std::move(work)] {
+        if (options_.before_call) options_.before_call();
+        return work();
+      },
+      [reactor](const absl::Status& status) { reactor->Finish(rpc::ToGrpcStatus(status)); });
+  if (!admitted) {
+    reactor->Finish(rpc::ToGrpcStatus(absl::ResourceExhaustedError(absl::StrCat(
+        "the fit service is serving its limit of ", calls_.capacity(),
+        " calls at once; retry after a backoff"))));
+  }
+  return reactor;
+}
 
 absl::StatusOr<std::shared_ptr<const pipeline::MeasurementModel>> FitService::MeasurementModelFor(
     const pipeline::LoadedAvatarBasis& basis) {
@@ -156,7 +182,7 @@ absl::StatusOr<std::shared_ptr<const pipeline::MeasurementModel>> FitService::Me
 grpc::ServerUnaryReactor* FitService::ProjectAvatar(grpc::CallbackServerContext* context,
                                                     const v1::ProjectAvatarRequest* request,
                                                     v1::AvatarProjection* response) {
-  absl::Status status = [&]() -> absl::Status {
+  return Admit(context, [this, context, request, response]() -> absl::Status {
     ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
     if (request->population().empty()) return absl::InvalidArgumentError("population is empty");
     ASSIGN_OR_RETURN(std::shared_ptr<const pipeline::LoadedAvatarBasis> basis,
@@ -182,14 +208,13 @@ grpc::ServerUnaryReactor* FitService::ProjectAvatar(grpc::CallbackServerContext*
     }
     response->set_out_of_distribution(response->reasons_size() > 0);
     return absl::OkStatus();
-  }();
-  return Answer(context, status);
+  });
 }
 
 grpc::ServerUnaryReactor* FitService::FitGarment(grpc::CallbackServerContext* context,
                                                  const v1::FitGarmentRequest* request,
                                                  v1::FittedGarment* response) {
-  absl::Status status = [&]() -> absl::Status {
+  return Admit(context, [this, context, request, response]() -> absl::Status {
     ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
     ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
                      GarmentForWeights(*catalog_, principal.tenant, request->garment_id(),
@@ -201,14 +226,13 @@ grpc::ServerUnaryReactor* FitService::FitGarment(grpc::CallbackServerContext* co
                             request->encoding(), request->with_metrics(),
                             !request->skip_cleanup()));
     return absl::OkStatus();
-  }();
-  return Answer(context, status);
+  });
 }
 
 grpc::ServerUnaryReactor* FitService::FitOutfit(grpc::CallbackServerContext* context,
                                                 const v1::FitOutfitRequest* request,
                                                 v1::FitOutfitResponse* response) {
-  absl::Status status = [&]() -> absl::Status {
+  return Admit(context, [this, context, request, response]() -> absl::Status {
     ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
     if (request->items().empty()) return absl::InvalidArgumentError("the outfit is empty");
     if (request->items_size() > options_.max_outfit_items) {
@@ -245,28 +269,26 @@ grpc::ServerUnaryReactor* FitService::FitOutfit(grpc::CallbackServerContext* con
       }
     }
     return absl::OkStatus();
-  }();
-  return Answer(context, status);
+  });
 }
 
 grpc::ServerUnaryReactor* FitService::GetGarmentTopology(
     grpc::CallbackServerContext* context, const v1::GetGarmentTopologyRequest* request,
     v1::GarmentTopology* response) {
-  absl::Status status = [&]() -> absl::Status {
+  return Admit(context, [this, context, request, response]() -> absl::Status {
     ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
     if (request->garment_id().empty()) return absl::InvalidArgumentError("garment_id is empty");
     ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
                      catalog_->Garment(principal.tenant, request->garment_id()));
     *response = garment->topology;
     return absl::OkStatus();
-  }();
-  return Answer(context, status);
+  });
 }
 
 grpc::ServerUnaryReactor* FitService::AvatarFromMeasurements(
     grpc::CallbackServerContext* context, const v1::AvatarFromMeasurementsRequest* request,
     v1::AvatarFromMeasurementsResponse* response) {
-  absl::Status status = [&]() -> absl::Status {
+  return Admit(context, [this, context, request, response]() -> absl::Status {
     ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
     if (request->population().empty()) return absl::InvalidArgumentError("population is empty");
     ASSIGN_OR_RETURN(const pipeline::MeasurementSet given,
@@ -300,8 +322,7 @@ grpc::ServerUnaryReactor* FitService::AvatarFromMeasurements(
     }
     response->set_out_of_distribution(response->reasons_size() > 0);
     return absl::OkStatus();
-  }();
-  return Answer(context, status);
+  });
 }
 
 }  // namespace fitbase::fit
