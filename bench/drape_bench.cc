@@ -396,7 +396,8 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
                                       pipeline::StderrIsTerminal());
   ForEachSideBySide(rows.size(), jobs, [&](size_t i) {
     Row& row = rows[i];
-    row.fit = workers::DrapeGarment(imported[row.garment], row.size, row.body.positions, settings);
+    row.fit =
+        workers::DrapeGarment(imported[row.garment], row.size, row.body.positions, settings);
     const std::array<core::Measurement, 1> leg = {core::Measurement::kInsideLeg};
     auto measured = core::MeasureBody(row.body.positions, triangles, leg);
     if (measured.ok()) row.inside_leg = (*measured)[static_cast<int>(leg[0])];

@@ -58,12 +58,16 @@ std::vector<Opening> BoundaryLoops(const core::Positions& positions,
   for (int32_t v = 0; v < n; ++v) {
     if (!on_boundary[v]) continue;
     const auto [it, added] = loop_index.try_emplace(Root(loop, v), openings.size());
-    if (added) openings.push_back({.vertices = {}, .edges = {}, .piece = piece_index.at(Root(piece, v))});
+    if (added) {
+      openings.push_back({.vertices = {}, .edges = {}, .piece = piece_index.at(Root(piece, v))});
+    }
     Opening& opening = openings[it->second];
     opening.vertices.push_back(v);
     opening.mean_height += positions(v, 1);
   }
-  for (int32_t e : boundary_edges) openings[loop_index.at(Root(loop, edges[e][0]))].edges.push_back(e);
+  for (int32_t e : boundary_edges) {
+    openings[loop_index.at(Root(loop, edges[e][0]))].edges.push_back(e);
+  }
   std::map<int32_t, size_t> highest;  // piece -> opening
   for (size_t o = 0; o < openings.size(); ++o) {
     Opening& opening = openings[o];

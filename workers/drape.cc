@@ -59,8 +59,8 @@ absl::StatusOr<DrapeResult> Drape(const DrapeInput& in, const ClothSettings& set
   RETURN_IF_ERROR(ValidateInput(in));
   const auto start_time = std::chrono::steady_clock::now();
   ASSIGN_OR_RETURN(core::TriangleBvh body, core::TriangleBvh::Build(in.mean_body, in.body_triangles));
-  ClothSolver solver(*in.model, in.start, in.edge_rest, in.hinge_rest, in.waistband_edges, body,
-                     settings);
+  ClothSolver solver(*in.model, in.start, in.edge_rest, in.hinge_rest, in.waistband_edges,
+                     body, settings);
   DrapeResult result;
   for (int step = 1; step <= schedule.homotopy_steps; ++step) {
     const double t = static_cast<double>(step) / schedule.homotopy_steps;

@@ -145,8 +145,9 @@ absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string
                    .body_triangles = g.body_triangles};
   ASSIGN_OR_RETURN(DrapeResult drape, Drape(input, settings, schedule));
   GarmentFit fit{std::move(drape.positions), ReportOf(garment, size, "drape", drape.metrics)};
-  SetSupports(MeasureSupports(g.model, g.waistband_edges, g.mean_body, fit.positions, target_body),
-              &fit.report);
+  SetSupports(
+      MeasureSupports(g.model, g.waistband_edges, g.mean_body, fit.positions, target_body),
+      &fit.report);
   fit.report.set_converged_max_move_mm(drape.converged_max_move_mm);
   fit.report.set_steps(static_cast<uint32_t>(drape.steps));
   fit.report.set_seconds(drape.seconds);
@@ -180,8 +181,9 @@ absl::StatusOr<GarmentFit> GeometricFit(const v1::Garment& garment, absl::string
   ASSIGN_OR_RETURN(core::TriangleBvh target_bvh, core::TriangleBvh::Build(target_body, g.body_triangles));
   fit.report = ReportOf(garment, size, "geometric",
                         MeasureFit(fit.positions, g.model.edges, g.edge_rest, target_bvh, g.regions));
-  SetSupports(MeasureSupports(g.model, g.waistband_edges, g.mean_body, fit.positions, target_body),
-              &fit.report);
+  SetSupports(
+      MeasureSupports(g.model, g.waistband_edges, g.mean_body, fit.positions, target_body),
+      &fit.report);
   fit.report.set_seconds(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return fit;
