@@ -245,6 +245,8 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     block(1, 1) = a.stiffness;
     pattern_->Add(a.vertex, a.vertex, block, out->hessian);
   }
+  // The slip at which a tie reaches its limit (ClothSettings::tie_limit), m.
+  const double yield = settings_.tie_limit * settings_.gravity / settings_.skin_tie;
   for (const SkinTie& tie : ties_) {
     const auto tri = body.triangles().row(tie.skin.triangle);
     const Eigen::Vector3d a = body.positions().row(tri(0)).transpose();
@@ -256,9 +258,7 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     const double k = settings_.skin_tie * masses_(tie.vertex);
     const Eigen::Vector3d target = OnSkin(body, tie.skin) + tie.offset;
     const Eigen::Vector3d slip = tangential * (x.row(tie.vertex).transpose() - target);
-    // Up to the slip at which the tie reaches its limit it is a spring, beyond it a constant
-    // force against the slip.
-    const double yield = settings_.tie_limit * settings_.gravity / settings_.skin_tie;
+    // Up to the yield slip the tie is a spring, beyond it a constant force against the slip.
     const double s = slip.norm();
     if (settings_.tie_limit == 0 || s <= yield) {
       out->energy += 0.5 * k * s * s;

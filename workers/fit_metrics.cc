@@ -32,9 +32,7 @@ SupportHeights MeasureSupports(const ClothModel& model,
   };
   auto average = [](const std::vector<double>& values) -> std::optional<double> {
     if (values.empty()) return std::nullopt;
-    double sum = 0;
-    for (double v : values) sum += v;
-    return sum / static_cast<double>(values.size());
+    return Mean(values);
   };
   const double crotch = mean_body(BodyLandmarks::kCrotch, 1);
   const double underbust = mean_body(BodyLandmarks::kLeftUnderbust, 1);
@@ -42,13 +40,10 @@ SupportHeights MeasureSupports(const ClothModel& model,
       0.5 * (body(BodyLandmarks::kNeckFront, 1) + body(BodyLandmarks::kNeckBack, 1));
   std::vector<double> waistbands, collars, hems;
   for (const Opening& opening : model.openings) {
-    if (opening.edges.empty() ||
-        !std::binary_search(waistband_edges.begin(), waistband_edges.end(), opening.edges[0])) {
-      continue;
+    if (!opening.edges.empty() &&
+        std::binary_search(waistband_edges.begin(), waistband_edges.end(), opening.edges[0])) {
+      waistbands.push_back(mean_height(opening.vertices) - body(BodyLandmarks::kNavel, 1));
     }
-    waistbands.push_back(mean_height(opening.vertices) - body(BodyLandmarks::kNavel, 1));
-  }
-  for (const Opening& opening : model.openings) {
     if (opening.highest_of_piece && opening.mean_height >= underbust) {
       collars.push_back(mean_height(opening.vertices) - neck_base);
     }
