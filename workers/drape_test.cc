@@ -204,7 +204,7 @@ TEST_F(DrapeTest, VariesSmoothlyWithTheBody) {
 
 TEST_F(DrapeTest, RejectsBadInput) {
   DrapeInput wrong_body = Input(1.0, 1.0);
-  wrong_body.target_body = wrong_body.target_body.topRows(10);
+  wrong_body.target_body.conservativeResize(10, 3);
   EXPECT_EQ(Drape(wrong_body).status().code(), absl::StatusCode::kInvalidArgument);
   DrapeInput nan_body = Input(1.0, 1.0);
   nan_body.target_body(3, 1) = std::nan("");

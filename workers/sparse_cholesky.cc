@@ -1,6 +1,13 @@
 #include "workers/sparse_cholesky.h"
 
+#include <dlfcn.h>
+
+#include <mutex>
 #include <variant>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "Eigen/CholmodSupport"
 #include "Eigen/SparseCholesky"
@@ -19,6 +26,18 @@ class SparseCholesky::Impl {
       return;
     }
     Supernodal& cholmod = solver_.emplace<Supernodal>();
+    static std::once_flag blas_on_one_thread;
+    std::call_once(blas_on_one_thread, [] {
+      // OpenBLAS's threaded build (the one scripts/setup.sh selects) splits a product by its
+      // thread count, and so its rounding; a drape is one core's work anyway. Looked up, not
+      // linked: with another BLAS there is nothing to set. Debian's serial OpenBLAS is not an
+      // option: drapes side by side in one process race on its buffers (their bytes differed).
+      using SetThreads = void (*)(int);
+      if (auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT,
+                                                        "openblas_set_num_threads"))) {
+        set(1);
+      }
+    });
     // One ordering, AMD, instead of CHOLMOD's default of trying AMD and METIS and keeping the
     // one with less fill: the choice could differ between nearby patterns, and METIS is
     // randomised. AMD is within a few percent of METIS on these meshes.
@@ -42,6 +61,15 @@ void SparseCholesky::AnalyzePattern(const SparseMatrix& pattern) {
 }
 
 bool SparseCholesky::Factorize(const SparseMatrix& matrix) {
+#ifdef _OPENMP
+  // CHOLMOD's supernodal factorisation copies its larger blocks in OpenMP regions of four
+  // threads (a compile-time count that OMP_NUM_THREADS does not override). A drape is one
+  // core's work, several run side by side, and on a busy machine the threads' wake-ups cost
+  // far more than the copies: a 2.2k-vertex drape took 13.7 s with them and 4.9 s without,
+  // same bytes. No active level makes every region run on the calling thread; the setting
+  // belongs to this thread (OpenMP 5), hence here, before each factorisation.
+  omp_set_max_active_levels(0);
+#endif
   return std::visit(
       [&](auto& s) {
         s.factorize(matrix);

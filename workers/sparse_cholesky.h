@@ -11,18 +11,18 @@ namespace fitbase::workers {
 // How the cloth solver factors its Newton systems.
 enum class Factorization {
   // Eigen's SimplicialLDLT (AMD ordering): one column at a time, no dense kernels. The first
-  // solver, kept as the speed baseline.
+  // solver, kept as the speed baseline (bench/drape_bench --speed).
   kSimplicialLdlt,
-  // CHOLMOD's supernodal LL^T (SuiteSparse, AMD ordering): columns with the same sparsity are
-  // factored together as dense blocks through BLAS. With OpenBLAS 6.3x faster on an 8.4k-vertex
-  // garment; with Debian's reference BLAS about as fast as kSimplicialLdlt
-  // (bench/drape_bench --speed).
+  // CHOLMOD's supernodal LL^T (SuiteSparse, AMD ordering, on the calling thread): columns with
+  // the same sparsity are factored together as dense blocks through BLAS. With
+  // OpenBLAS on one thread 3.6x faster than kSimplicialLdlt on an 8.4k-vertex garment; with
+  // Debian's reference BLAS about as fast.
   kSupernodalCholmod,
 };
 
 // Factorises symmetric positive definite matrices of one fixed sparsity pattern, many times
 // (a Newton solve per iteration): the ordering and symbolic analysis are done once. Reads only
-// the lower triangle. Deterministic with Debian's reference BLAS: the same matrix gives the
+// the lower triangle. Deterministic with BLAS on one thread: the same matrix gives the
 // same bits (CHOLMOD is asked for a single ordering).
 class SparseCholesky {
  public:
