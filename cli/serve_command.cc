@@ -1,6 +1,7 @@
 // fitbase serve: the coordinator, a worker, the fit service, or all in one process.
 #include <signal.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <ctime>
 #include <iostream>
@@ -146,15 +147,23 @@ absl::Status ServeWorkers(std::vector<std::unique_ptr<workers::DrapeWorker>>& po
   for (auto& worker : pool) threads.emplace_back([w = worker.get()] { w->Run(); });
   WaitForSignal(signals, -1);
   for (auto& worker : pool) worker->Drain();
+  std::atomic<bool> drained = false;
   std::thread drain_guard([&] {
-    // Either way the drain is over: a second signal or the time ran out.
+    // Either way the drain is over: a second signal or the time ran out; unless the workers
+    // finished first and woke this thread to end it.
     WaitForSignal(signals, flags.drain_seconds);
+    if (drained) return;
     for (auto& worker : pool) worker->ReturnLeases();
     core::LogLine("exiting").Add("reason", "drain cut short");
     std::_Exit(0);
   });
-  drain_guard.detach();
   for (std::thread& thread : threads) thread.join();
+  // The guard must be gone before the pool is: a detached guard that woke during exit read
+  // the destroyed pool (ASan, BuildFaultsTest under scripts/test.sh --sanitize). A signal
+  // aimed at it ends its wait; SIGTERM is blocked in every thread, so only its sigwait sees it.
+  drained = true;
+  pthread_kill(drain_guard.native_handle(), SIGTERM);
+  drain_guard.join();
   return absl::OkStatus();
 }
 
