@@ -34,8 +34,9 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo apt-get update -q
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
-# The drape's supernodal factorisation (CHOLMOD) spends most of its time in BLAS, where
-# OpenBLAS is 3.6x faster than Debian's reference BLAS on an 8.4k-vertex garment. Its threaded
+# The drape's supernodal factorisation (CHOLMOD) spends most of its time in BLAS: with OpenBLAS
+# it is 6.2x faster than Eigen's simplicial one on an 8.4k-vertex garment, with Debian's
+# reference BLAS about as fast (fitbase_drape_bench --speed). OpenBLAS's threaded
 # build, chosen even when another BLAS is installed; workers/sparse_cholesky runs it on one
 # thread. The serial build is not safe for drapes side by side in one process.
 for lib in libblas.so.3 liblapack.so.3; do
