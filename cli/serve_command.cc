@@ -17,6 +17,7 @@
 #include "core/status_macros.h"
 #include "services/build/coordinator_server.h"
 #include "services/fit/fit_server.h"
+#include "services/http/http_server.h"
 #include "services/rpc/channel.h"
 #include "services/rpc/grpc_status.h"
 #include "services/rpc/tls_credentials.h"
@@ -45,6 +46,8 @@ struct ServeFlags {
   int max_calls = fit::FitServiceOptions{}.max_calls_in_flight;
   rpc::TlsFiles tls;
   std::string tls_target_name;
+  std::string http_listen;
+  std::string web_root = "web";
 };
 
 // Signals are taken by one thread with sigwait, so handlers never run inside gRPC or RocksDB.
@@ -194,6 +197,23 @@ fit::FitServerOptions FitOptions(const ServeFlags& flags, rpc::ApiKeyRegistry ke
   return options;
 }
 
+// The page and its JSON API beside the fit service, when --http-listen asks for them; null
+// otherwise. HTTPS with the server's --tls-cert and --tls-key when those are given.
+absl::StatusOr<std::unique_ptr<http::HttpServer>> StartHttp(const ServeFlags& flags,
+                                                            fit::FitServer& fit) {
+  if (flags.http_listen.empty()) return nullptr;
+  http::HttpServerOptions options;
+  options.listen = flags.http_listen;
+  options.web_root = flags.web_root;
+  options.channel = fit.InProcessChannel();
+  options.tls_cert = flags.tls.cert;
+  options.tls_key = flags.tls.key;
+  ASSIGN_OR_RETURN(std::unique_ptr<http::HttpServer> server,
+                   http::HttpServer::Start(std::move(options)));
+  std::cout << "http-listening 127.0.0.1:" << server->port() << std::endl;
+  return server;
+}
+
 absl::Status ServeFit(const ServeFlags& flags) {
   if (flags.api_keys.empty()) return absl::InvalidArgumentError("--api-keys is required");
   if (flags.db.empty()) return absl::InvalidArgumentError("--db is required for this role");
@@ -215,7 +235,9 @@ absl::Status ServeFit(const ServeFlags& flags) {
   ASSIGN_OR_RETURN(std::unique_ptr<fit::FitServer> server,
                    fit::FitServer::Start(std::move(options)));
   std::cout << "listening 127.0.0.1:" << server->port() << std::endl;
+  ASSIGN_OR_RETURN(std::unique_ptr<http::HttpServer> http, StartHttp(flags, *server));
   WaitForSignal(signals, -1);
+  if (http != nullptr) http->Shutdown();
   server->Shutdown(absl::Seconds(5));
   return absl::OkStatus();
 }
@@ -236,6 +258,7 @@ absl::Status ServeAll(const CliContext& context, const ServeFlags& flags) {
   ASSIGN_OR_RETURN(std::unique_ptr<fit::FitServer> fit,
                    fit::FitServer::Start(std::move(fit_options)));
   std::cout << "fit-listening 127.0.0.1:" << fit->port() << std::endl;
+  ASSIGN_OR_RETURN(std::unique_ptr<http::HttpServer> http, StartHttp(flags, *fit));
   std::vector<std::unique_ptr<workers::DrapeWorker>> pool;
   for (int i = 0; i < flags.workers; ++i) {
     pool.push_back(std::make_unique<workers::DrapeWorker>(
@@ -243,6 +266,7 @@ absl::Status ServeAll(const CliContext& context, const ServeFlags& flags) {
                       absl::StrCat("worker-", i))));
   }
   const absl::Status status = ServeWorkers(pool, flags, signals);
+  if (http != nullptr) http->Shutdown();
   fit->Shutdown(absl::Seconds(5));
   server->Shutdown(absl::Seconds(10));
   return status;
@@ -271,6 +295,12 @@ void AddServeCommand(CLI::App& app, CliContext& context) {
   command->add_option("--db", flags->db, "coordinator, fit, all: the RocksDB store folder");
   command->add_option("--fit-listen", flags->fit_listen,
                       "all: host:port of the fit service (default 127.0.0.1:7402)");
+  command->add_option("--http-listen", flags->http_listen,
+                      "fit, all: also serve the try-on page and its JSON API on host:port "
+                      "(port 0: any free port; docs/http-api.md)");
+  command->add_option("--web-root", flags->web_root,
+                      "fit, all: the page's folder, with three.js installed under it "
+                      "(default: web)");
   command->add_option("--db-mode", flags->db_mode,
                       "fit: secondary (of a live coordinator's store, created with "
                       "--blob-files false) or readonly (a checkpoint); default secondary");

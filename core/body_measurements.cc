@@ -63,8 +63,21 @@ bool Contains(const std::vector<Eigen::Vector2d>& loop, const Eigen::Vector2d& p
   return inside;
 }
 
-// The girth (convex hull perimeter) of the loop of `section` that encloses `inside` (a point
-// of the plane), or NaN when no loop does.
+// The centroid of a loop's points, in the section's plane.
+Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& loop) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : loop) sum += p;
+  return sum / static_cast<double>(loop.size());
+}
+
+// Heights [low, high] over which a girth's extreme is sought, m.
+struct Band {
+  double low;
+  double high;
+};
+
+}  // namespace
+
 double GirthAround(const PlaneSection& section, const Eigen::Vector3d& inside) {
   const Eigen::Vector3d d = inside - section.origin;
   const Eigen::Vector2d p(d.dot(section.u), d.dot(section.v));
@@ -81,21 +94,6 @@ double GirthAround(const PlaneSection& section, const Eigen::Vector3d& inside) {
   }
   return best;
 }
-
-// The centroid of a loop's points, in the section's plane.
-Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& loop) {
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  for (const Eigen::Vector2d& p : loop) sum += p;
-  return sum / static_cast<double>(loop.size());
-}
-
-// Heights [low, high] over which a girth's extreme is sought, m.
-struct Band {
-  double low;
-  double high;
-};
-
-}  // namespace
 
 absl::string_view MeasurementName(Measurement measurement) {
   return kNames[static_cast<int>(measurement)];
@@ -177,6 +175,7 @@ PlaneSection SectionOf(const Positions& positions, const Triangles& triangles,
   };
   absl::flat_hash_map<uint64_t, int> point_of_edge;
   std::vector<Eigen::Vector2d> points;
+  std::vector<SectionEdgePoint> on_edge;
   std::vector<std::array<int, 2>> links;  // Up to two neighbours per point.
   auto crossing = [&](int32_t a, int32_t b) {
     const uint64_t key = edge_key(a, b);
@@ -187,6 +186,7 @@ PlaneSection SectionOf(const Positions& positions, const Triangles& triangles,
           positions.row(a).transpose() + t * (positions.row(b) - positions.row(a)).transpose() -
           point;
       points.emplace_back(x.dot(section.u), x.dot(section.v));
+      on_edge.push_back({a, b, t});
       links.push_back({-1, -1});
     }
     return it->second;
@@ -218,17 +218,33 @@ PlaneSection SectionOf(const Positions& positions, const Triangles& triangles,
   std::vector<bool> used(points.size(), false);
   for (size_t start = 0; start < points.size(); ++start) {
     if (used[start]) continue;
-    std::vector<Eigen::Vector2d> loop;
+    // An open chain is walked from one of its ends, so that it comes out whole: first find
+    // an end (on a closed loop the walk comes back to `start` and any point will do).
     int previous = -1;
     int current = static_cast<int>(start);
-    while (current >= 0 && !used[current]) {
-      used[current] = true;
-      loop.push_back(points[current]);
+    for (size_t hops = 0; hops < points.size(); ++hops) {
       const int next = links[current][0] != previous ? links[current][0] : links[current][1];
+      if (next < 0 || next == static_cast<int>(start)) break;
       previous = current;
       current = next;
     }
+    const int first = current;
+    std::vector<Eigen::Vector2d> loop;
+    std::vector<SectionEdgePoint> edges;
+    bool closed = false;
+    previous = -1;
+    while (current >= 0 && !used[current]) {
+      used[current] = true;
+      loop.push_back(points[current]);
+      edges.push_back(on_edge[current]);
+      const int next = links[current][0] != previous ? links[current][0] : links[current][1];
+      previous = current;
+      current = next;
+      if (current == first) closed = true;
+    }
     section.loops.push_back(std::move(loop));
+    section.edges.push_back(std::move(edges));
+    section.closed.push_back(closed);
   }
   return section;
 }
@@ -250,9 +266,9 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Mesh& body) {
   return MeasureBody(body.positions, Triangulate(body.faces), kAll);
 }
 
-absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
-                                             const Triangles& triangles,
-                                             std::span<const Measurement> which) {
+absl::StatusOr<BodyMeasurements> MeasureBody(
+    const Positions& positions, const Triangles& triangles, std::span<const Measurement> which,
+    std::array<std::optional<GirthPlace>, kMeasurementCount>* places) {
   if (positions.rows() != kBodyVertexCount) {
     return absl::InvalidArgumentError(absl::StrCat("a body to measure has ", kBodyVertexCount,
                                                    " vertices (", kBodyTopologyId, "), not ",
@@ -323,15 +339,34 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
     }
     return GirthAround(section, inside);
   };
-  auto extreme_over = [&](Band band, bool largest, auto&& girth_at) {
+  // Where the girth being measured was taken; recorded only when asked for.
+  std::optional<GirthPlace> place;
+  auto record = [&](const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
+                    const Eigen::Vector3d& inside) {
+    if (places != nullptr) place = GirthPlace{point, normal.normalized(), inside};
+  };
+  // The extreme girth over a band of heights; `place_at` records where, at the best height.
+  auto extreme_over = [&](Band band, bool largest, auto&& girth_at, auto&& place_at) {
     double best = std::numeric_limits<double>::quiet_NaN();
+    double best_y = band.low;
     const int steps = std::max(1, static_cast<int>(std::ceil((band.high - band.low) / kBandStep)));
     for (int i = 0; i <= steps; ++i) {
-      const double g = girth_at(band.low + (band.high - band.low) * i / steps);
+      const double y = band.low + (band.high - band.low) * i / steps;
+      const double g = girth_at(y);
       if (std::isnan(g)) continue;
-      if (std::isnan(best) || (largest ? g > best : g < best)) best = g;
+      if (std::isnan(best) || (largest ? g > best : g < best)) {
+        best = g;
+        best_y = y;
+      }
     }
+    if (!std::isnan(best)) place_at(best_y);
     return best;
+  };
+  auto torso_place = [&](const Eigen::Vector3d& front, double behind) {
+    return [&, behind](double y) {
+      const Eigen::Vector3d inside(0.0, y, front.z() - behind);
+      record(inside, Eigen::Vector3d::UnitY(), inside);
+    };
   };
 
   auto measure = [&](Measurement measurement) -> double {
@@ -342,23 +377,29 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
         return EnclosedVolume(positions, triangles) * kBodyDensity;
       case Measurement::kBustGirth:
         return extreme_over({bust.y() - 0.04, bust.y() + 0.04}, true,
-                            [&](double y) { return chest_girth(y, bust); });
+                            [&](double y) { return chest_girth(y, bust); },
+                            torso_place(bust, 0.10));
       case Measurement::kUnderbustGirth:
+        torso_place(underbust, 0.10)(underbust.y());
         return chest_girth(underbust.y(), underbust);
       case Measurement::kWaistGirth:
         return extreme_over({navel.y(), underbust.y()}, false,
-                            [&](double y) { return torso_girth(y, navel); });
+                            [&](double y) { return torso_girth(y, navel); },
+                            torso_place(navel, 0.05));
       case Measurement::kNavelWaistGirth:
+        torso_place(navel, 0.05)(navel.y());
         return torso_girth(navel.y(), navel);
       case Measurement::kHipGirth:
         return extreme_over({crotch.y() + 0.01, crotch.y() + 0.6 * (navel.y() - crotch.y())},
-                            true, [&](double y) { return torso_girth(y, crotch); });
-      case Measurement::kThighGirth:
+                            true, [&](double y) { return torso_girth(y, crotch); },
+                            torso_place(crotch, 0.05));
+      case Measurement::kThighGirth: {
         // The left thigh: the largest loop left of the centre line (the hand hangs further out).
-        return extreme_over({crotch.y() - 0.08, crotch.y() - 0.01}, true, [&](double y) {
+        auto thigh_at = [&](double y) -> std::pair<double, Eigen::Vector3d> {
           const PlaneSection section = horizontal(Eigen::Vector3d(0, y, 0));
           double best = std::numeric_limits<double>::quiet_NaN();
           double best_area = 0;
+          Eigen::Vector3d centre = Eigen::Vector3d::Zero();
           for (const auto& loop : section.loops) {
             if (loop.size() < 3) continue;
             const Eigen::Vector2d centroid = Centroid(loop);
@@ -369,10 +410,18 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
             if (area > best_area) {
               best_area = area;
               best = ConvexHullPerimeter(loop);
+              centre = world;
             }
           }
-          return best;
-        });
+          return {best, centre};
+        };
+        return extreme_over({crotch.y() - 0.08, crotch.y() - 0.01}, true,
+                            [&](double y) { return thigh_at(y).first; },
+                            [&](double y) {
+                              record(Eigen::Vector3d(0, y, 0), Eigen::Vector3d::UnitY(),
+                                     thigh_at(y).second);
+                            });
+      }
       case Measurement::kUpperArmGirth: {
         // Midway from acromion to olecranon the plane also cuts the torso beside the arm: of
         // the loops near the landmarks' line, the arm's is the one furthest from the centre
@@ -392,6 +441,7 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
             if ((world - middle).norm() > kArmReach || world.x() <= outermost) continue;
             outermost = world.x();
             best = ConvexHullPerimeter(loop);
+            record(middle, olecranon - acromion, world);
           }
           if (!std::isnan(best)) return best;
         }
@@ -401,6 +451,7 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
         const Eigen::Vector3d front = at(L::kNeckFront);
         const Eigen::Vector3d back = at(L::kNeckBack);
         const Eigen::Vector3d normal = Eigen::Vector3d::UnitX().cross(back - front);
+        record(front, normal, (front + back) / 2);
         return GirthAround(SectionMesh(positions, triangles, front, normal), (front + back) / 2);
       }
       case Measurement::kInsideLeg:
@@ -416,6 +467,7 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
   BodyMeasurements m;
   m.fill(std::numeric_limits<double>::quiet_NaN());
   for (Measurement measurement : which) {
+    place.reset();
     const double value = measure(measurement);
     if (!std::isfinite(value) || value <= 0) {
       return absl::InvalidArgumentError(
@@ -423,6 +475,7 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
                        " cannot be taken: no section of the mesh encloses its landmark"));
     }
     m[static_cast<int>(measurement)] = value;
+    if (places != nullptr) (*places)[static_cast<int>(measurement)] = place;
   }
   return m;
 }

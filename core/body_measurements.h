@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -75,14 +76,36 @@ double ConvexHullPerimeter(std::span<const Eigen::Vector2d> points);
 // cuts the triangle mesh (positions V x 3, triangles T x 3), each as its points in the plane's
 // own 2D frame (u, v, both perpendicular to the normal). Loops are separated by mesh
 // connectivity, so an arm's section is never merged with the torso's.
+// Each loop point also names the mesh edge it lies on (vertices a, b; the point is
+// a + t (b - a)), which ties a section of a deformed mesh to the same material points at rest.
+struct SectionEdgePoint {
+  int32_t a;
+  int32_t b;
+  double t;
+};
 struct PlaneSection {
   Eigen::Vector3d origin;
   Eigen::Vector3d u;
   Eigen::Vector3d v;
   std::vector<std::vector<Eigen::Vector2d>> loops;
+  std::vector<std::vector<SectionEdgePoint>> edges;  // Parallel to loops.
+  // Whether each loop closes; an open mesh's boundary ends a loop without closing it.
+  std::vector<bool> closed;
 };
 PlaneSection SectionMesh(const Positions& positions, const Triangles& triangles,
                          const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
+
+// Where a girth was taken: the section plane (through `point`, with unit `normal`) and a point
+// of that plane inside the measured loop (the loop's centroid for a limb).
+struct GirthPlace {
+  Eigen::Vector3d point;
+  Eigen::Vector3d normal;
+  Eigen::Vector3d inside;
+};
+
+// The convex hull perimeter of the loop of `section` that encloses `inside` (a point of its
+// plane), m, or NaN when no loop does; the largest such loop when several do.
+double GirthAround(const PlaneSection& section, const Eigen::Vector3d& inside);
 
 // The enclosed volume of a closed, outward-oriented triangle mesh (m^3 for meters).
 double EnclosedVolume(const Positions& positions, const Triangles& triangles);
@@ -96,9 +119,10 @@ absl::StatusOr<BodyMeasurements> MeasureBody(const Mesh& body);
 // The same with the faces already triangulated (what MeasureBody does first), taking only
 // the measurements in `which` (the others are NaN): for callers that measure many bodies of
 // one topology, a few measurements at a time.
-absl::StatusOr<BodyMeasurements> MeasureBody(const Positions& positions,
-                                             const Triangles& triangles,
-                                             std::span<const Measurement> which);
+// With `places`, also where each girth of `which` was taken (the others are left empty).
+absl::StatusOr<BodyMeasurements> MeasureBody(
+    const Positions& positions, const Triangles& triangles, std::span<const Measurement> which,
+    std::array<std::optional<GirthPlace>, kMeasurementCount>* places = nullptr);
 
 }  // namespace fitbase::core
 

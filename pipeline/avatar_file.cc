@@ -2,6 +2,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "core/body_model.h"
+#include "core/garment_obj.h"
 #include "core/obj_io.h"
 #include "core/status_macros.h"
 
@@ -12,23 +13,32 @@ namespace {
 constexpr double kMinBodyHeight = 1.0;
 constexpr double kMaxBodyHeight = 2.6;
 
-}  // namespace
-
-absl::StatusOr<core::Mesh> ReadAvatarObj(const std::filesystem::path& path) {
-  ASSIGN_OR_RETURN(core::Mesh mesh, core::ReadObj(path));
+absl::StatusOr<core::Mesh> CheckAvatar(core::Mesh mesh, absl::string_view name) {
   if (mesh.vertex_count() != core::kBodyVertexCount) {
     return absl::InvalidArgumentError(absl::StrCat(
-        path.string(), " has ", mesh.vertex_count(), " vertices; a ", core::kBodyTopologyId,
+        name, " has ", mesh.vertex_count(), " vertices; a ", core::kBodyTopologyId,
         " avatar has ", core::kBodyVertexCount));
   }
   const double height = mesh.positions.col(1).maxCoeff() - mesh.positions.col(1).minCoeff();
   if (height < kMinBodyHeight || height > kMaxBodyHeight) {
     return absl::InvalidArgumentError(absl::StrCat(
-        path.string(), " is ", height, " units tall; avatars are in meters (expected ",
+        name, " is ", height, " units tall; avatars are in meters (expected ",
         kMinBodyHeight, " to ", kMaxBodyHeight, ")"));
   }
   mesh.topology_id = std::string(core::kBodyTopologyId);
   return mesh;
+}
+
+}  // namespace
+
+absl::StatusOr<core::Mesh> ReadAvatarObj(const std::filesystem::path& path) {
+  ASSIGN_OR_RETURN(core::Mesh mesh, core::ReadObj(path));
+  return CheckAvatar(std::move(mesh), path.string());
+}
+
+absl::StatusOr<core::Mesh> ParseAvatarObj(absl::string_view text, absl::string_view name) {
+  ASSIGN_OR_RETURN(core::GarmentMesh parsed, core::ParseGarmentObj(text, name));
+  return CheckAvatar(std::move(parsed.mesh), name);
 }
 
 }  // namespace fitbase::pipeline

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "core/mesh.h"
 
 namespace fitbase::pipeline {
@@ -12,6 +13,9 @@ namespace fitbase::pipeline {
 // the problem: wrong vertex count, non-finite coordinates, a size that is not a human in
 // meters (decimeter files from MakeHuman are the usual mistake).
 absl::StatusOr<core::Mesh> ReadAvatarObj(const std::filesystem::path& path);
+
+// The same for an OBJ's text (an upload), named `name` in errors.
+absl::StatusOr<core::Mesh> ParseAvatarObj(absl::string_view text, absl::string_view name);
 
 }  // namespace fitbase::pipeline
 

@@ -21,7 +21,7 @@ packages=(
   protobuf-compiler libprotobuf-dev protobuf-compiler-grpc libgrpc++-dev libabsl-dev libssl-dev
   libeigen3-dev librocksdb-dev libdraco-dev libopenmesh-dev libcli11-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev libsuitesparse-dev libopenblas0-pthread
-  clang-16 libclang-rt-16-dev
+  libcpp-httplib-dev clang-16 libclang-rt-16-dev
 )
 sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"

@@ -371,6 +371,31 @@ absl::StatusOr<std::vector<std::string>> AssetStore::ListGarmentIds(
   return ids;
 }
 
+absl::StatusOr<std::map<std::string, std::string>> AssetStore::ListCurrentAvatarBases(
+    absl::string_view tenant) const {
+  ASSIGN_OR_RETURN(const std::string prefix, EncodeKey({{"tenant", tenant}}));
+  const std::string what = absl::StrCat("avatar bases of tenant '", tenant, "'");
+  // Keys are the population's then a version (8 bytes): a scan meets every version of every
+  // population in order, so the last one seen of each is its current.
+  std::map<std::string, std::string> current;
+  RETURN_IF_ERROR(Scan(ReadView(*this), kAvatarCurrent, prefix, what,
+                       [&](absl::string_view rest, absl::string_view value) -> absl::Status {
+                         if (rest.size() < 8) {
+                           return absl::DataLossError(
+                               absl::StrCat("list ", what, ": stored key is too short"));
+                         }
+                         rest.remove_suffix(8);
+                         ASSIGN_OR_RETURN(std::vector<std::string> ids, DecodeKey(rest));
+                         if (ids.size() != 1) {
+                           return absl::DataLossError(absl::StrCat(
+                               "list ", what, ": stored key has ", ids.size(), " ids, not 1"));
+                         }
+                         current[ids[0]] = std::string(value);
+                         return absl::OkStatus();
+                       }));
+  return current;
+}
+
 absl::StatusOr<ClothingBasisRecord> AssetStore::ReadClothingBasis(const ReadView& view,
                                                                   absl::string_view basis_key,
                                                                   uint64_t version,

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -124,6 +125,9 @@ class AssetStore {
                                          absl::string_view garment_id) const;
   // In byte order of the ids.
   absl::StatusOr<std::vector<std::string>> ListGarmentIds(absl::string_view tenant) const;
+  // The tenant's populations with a current avatar basis, and that basis's id, by name.
+  absl::StatusOr<std::map<std::string, std::string>> ListCurrentAvatarBases(
+      absl::string_view tenant) const;
 
   // Publishes `bytes` (whose content hash is `content_id`) as the next version of `key` and
   // returns its number. When the current version already has `content_id` and these bytes,

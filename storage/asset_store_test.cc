@@ -108,6 +108,12 @@ TEST_F(AssetStoreTest, PublishAvatarBasisMovesThePointerAndPersists) {
   }
   auto store = OpenOrDie(path);
   EXPECT_EQ(*store->GetCurrentAvatarBasisId("acme", "women"), "b2");
+  ASSERT_TRUE(store->PublishAvatarBasis("acme", "men", "b1", "one").ok());
+  ASSERT_TRUE(store->PublishAvatarBasis("acme2", "kids", "b1", "one").ok());
+  // Each population's current, of this tenant only ("acme" is a prefix of "acme2").
+  EXPECT_EQ(*store->ListCurrentAvatarBases("acme"),
+            (std::map<std::string, std::string>{{"men", "b1"}, {"women", "b2"}}));
+  EXPECT_TRUE(store->ListCurrentAvatarBases("globex")->empty());
   EXPECT_EQ(*store->GetAvatarBasis("b1"), "one");
   EXPECT_EQ(*store->GetAvatarBasis("b2"), "two");
 }

@@ -213,6 +213,61 @@ TEST_F(FitServiceTest, AnOutfitFitsEverySizeWithAClothingBasis) {
             grpc::StatusCode::NOT_FOUND);
 }
 
+TEST_F(FitServiceTest, SizeAdviceJudgesEveryBuiltSizeOnTheBodyOfTheWeights) {
+  v1::ProjectAvatarRequest project = AvatarRequest(2, false);
+  project.set_with_body(true);
+  v1::AvatarProjection projection;
+  ASSERT_TRUE(stub_->ProjectAvatar(Call(TestKeys::kCustomer).get(), project, &projection).ok());
+  auto body = proto::AvatarPositions(projection.body());
+  ASSERT_TRUE(body.ok()) << body.status();
+  EXPECT_EQ(body->rows(), core::kBodyVertexCount);
+
+  v1::ShopGarments shop;
+  ASSERT_TRUE(stub_->ListShopGarments(Call(TestKeys::kCustomer).get(), {}, &shop).ok());
+  ASSERT_EQ(shop.garments_size(), 1);
+  EXPECT_EQ(shop.garments(0).garment_id(), garment_.id());
+  EXPECT_EQ(shop.garments(0).population(), "women");
+  EXPECT_THAT(shop.garments(0).sizes(), ::testing::ElementsAre("M"));  // XL is not built.
+  v1::GetBodyTopologyRequest topology_request;
+  topology_request.set_population("women");
+  v1::BodyTopology topology;
+  ASSERT_TRUE(
+      stub_->GetBodyTopology(Call(TestKeys::kCustomer).get(), topology_request, &topology).ok());
+  EXPECT_EQ(topology.faces().vertex_count(), static_cast<uint32_t>(core::kBodyVertexCount));
+  EXPECT_GT(topology.faces().face_sizes_size(), 0);
+
+  v1::AdviseSizeRequest request;
+  *request.mutable_weights() = projection.weights();
+  request.set_garment_id(garment_.id());
+  v1::SizeAdvice advice;
+  const grpc::Status status = stub_->AdviseSize(Call(TestKeys::kCustomer).get(), request, &advice);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_EQ(advice.recommended_size(), "M");
+  EXPECT_GT(advice.confidence(), 0.0);
+  EXPECT_FALSE(advice.out_of_distribution());  // A training body.
+  ASSERT_EQ(advice.sizes_size(), 1);
+  const v1::SizeFit& m = advice.sizes(0);
+  EXPECT_EQ(m.ease_mm_size(), garment_.template_mesh().vertex_count());
+  EXPECT_EQ(m.stretch_pct_size(), garment_.template_mesh().vertex_count());
+  std::vector<std::string> regions;
+  for (const v1::RegionFit& region : m.regions()) {
+    regions.push_back(region.region());
+    EXPECT_NEAR(region.ease_cm(), region.garment_cm() - region.body_cm(), 1e-9);
+  }
+  // A sports top over leggings: the midriff between them is bare, so no waist girth.
+  EXPECT_THAT(regions, ::testing::IsSupersetOf({"bust", "hip", "thigh"}));
+  EXPECT_THAT(regions, ::testing::Not(::testing::Contains("waist")));
+  EXPECT_THAT(m.summary(), ::testing::StartsWith("M: "));
+
+  request.add_sizes("XL");
+  EXPECT_EQ(stub_->AdviseSize(Call(TestKeys::kCustomer).get(), request, &advice).error_code(),
+            grpc::StatusCode::NOT_FOUND);
+  request.clear_sizes();
+  request.mutable_weights()->set_basis_id("another-basis");
+  EXPECT_EQ(stub_->AdviseSize(Call(TestKeys::kCustomer).get(), request, &advice).error_code(),
+            grpc::StatusCode::FAILED_PRECONDITION);
+}
+
 TEST_F(FitServiceTest, ANewlyPublishedVersionServesWithoutARestart) {
   const v1::AvatarProjection projection = Project(1);
   v1::FittedGarment first;

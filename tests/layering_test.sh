@@ -13,8 +13,9 @@ declare -A allowed=(
   [services/rpc]="services/rpc storage core"
   [services/build]="services/build services/rpc pipeline workers storage proto core"
   [services/fit]="services/fit services/rpc pipeline storage proto core"
-  [cli]="cli services/build services/fit services/rpc pipeline workers storage proto core"
-  [fuzz]="fuzz services/build services/fit services/rpc pipeline workers storage proto core"
+  [services/http]="services/http services/rpc pipeline proto core"
+  [cli]="cli services/build services/fit services/http services/rpc pipeline workers storage proto core"
+  [fuzz]="fuzz services/build services/fit services/http services/rpc pipeline workers storage proto core"
 )
 # Generated protobuf headers live under proto/'s build folder as fitbase/v1/*.
 room_of_include() {

@@ -50,7 +50,16 @@ absl::StatusOr<std::shared_ptr<const ServedGarment>> FitCatalog::Garment(
   ASSIGN_OR_RETURN(core::Mesh template_mesh, proto::MeshFromProto(garment.template_mesh()));
   const std::vector<uint32_t> order = core::SpatialOrder(template_mesh.positions);
   topology.mutable_wire_order()->Assign(order.begin(), order.end());
-  garments_.Put(key, {served, topology.ByteSizeLong(), Now()});
+  size_t bytes_held = topology.ByteSizeLong();
+  absl::StatusOr<pipeline::AdviceGarment> advice = pipeline::PrepareAdviceGarment(garment);
+  if (advice.ok()) {
+    bytes_held += sizeof(double) * 3 * static_cast<size_t>(advice->triangles.rows()) *
+                  (advice->rest.size() + 1);
+    served->advice = std::make_shared<const pipeline::AdviceGarment>(*std::move(advice));
+  } else {
+    served->advice_error = advice.status();
+  }
+  garments_.Put(key, {served, bytes_held, Now()});
   return served;
 }
 
@@ -76,8 +85,14 @@ absl::StatusOr<std::shared_ptr<const ServedClothing>> FitCatalog::Clothing(
         absl::StrCat("stored clothing basis ", record.content_id, " does not parse"));
   }
   ASSIGN_OR_RETURN(core::ClothingFitter fitter, proto::ClothingFitterFromProto(basis));
+  Eigen::VectorXd reach = Eigen::VectorXd::Zero(fitter.model().component_count);
+  for (const v1::ClothingExample& example : basis.provenance().examples()) {
+    for (int k = 0; k < std::min<int>(example.weights_size(), reach.size()); ++k) {
+      reach(k) = std::max(reach(k), std::abs(example.weights(k)));
+    }
+  }
   auto served = std::make_shared<ServedClothing>(
-      ServedClothing{std::move(fitter), record.version, record.content_id});
+      ServedClothing{std::move(fitter), record.version, record.content_id, std::move(reach)});
   clothing_.Put(cache_key, {served, record.bytes.size(), now});
   return served;
 }
@@ -94,6 +109,13 @@ absl::StatusOr<std::shared_ptr<const pipeline::LoadedAvatarBasis>> FitCatalog::C
     ASSIGN_OR_RETURN(id, store_->GetCurrentAvatarBasisId(tenant, population));
     avatar_pointers_.Put(pointer_key, {std::make_shared<std::string>(id), id.size(), now});
   }
+  return AvatarBasis(id);
+}
+
+absl::StatusOr<std::shared_ptr<const pipeline::LoadedAvatarBasis>> FitCatalog::AvatarBasis(
+    absl::string_view avatar_basis_id) {
+  const std::string id(avatar_basis_id);
+  const absl::Time now = Now();
   if (auto hit = avatar_bases_.Get(id)) return hit->value;
   ASSIGN_OR_RETURN(std::string bytes, store_->GetAvatarBasis(id));
   auto loaded = std::make_shared<pipeline::LoadedAvatarBasis>();

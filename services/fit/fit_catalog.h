@@ -1,6 +1,7 @@
 #ifndef FITBASE_SERVICES_FIT_FIT_CATALOG_H_
 #define FITBASE_SERVICES_FIT_FIT_CATALOG_H_
 
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "core/clothing_fitter.h"
 #include "fitbase/v1/fit_service.pb.h"
 #include "pipeline/avatar_projection.h"
+#include "pipeline/size_advisor.h"
 #include "services/fit/byte_lru_cache.h"
 #include "services/rpc/clock.h"
 #include "storage/asset_store.h"
@@ -22,12 +24,18 @@ struct ServedClothing {
   core::ClothingFitter fitter;
   uint64_t version = 0;
   std::string content_id;
+  // Per component, the largest |weight| of the example drapes the basis was built from (m):
+  // a customer far beyond it is a fit by extrapolation.
+  Eigen::VectorXd example_reach;
 };
 
 // What the fit service needs of a garment record (not its template or mean avatar).
 struct ServedGarment {
   std::string avatar_basis_id;
   v1::GarmentTopology topology;
+  // For size advice; null, with the reason in advice_error, for a record it cannot use.
+  std::shared_ptr<const pipeline::AdviceGarment> advice;
+  absl::Status advice_error;
 };
 
 struct FitCatalogOptions {
@@ -54,6 +62,19 @@ class FitCatalog {
       const storage::ClothingBasisKey& key);
   absl::StatusOr<std::shared_ptr<const pipeline::LoadedAvatarBasis>> CurrentAvatarBasis(
       absl::string_view tenant, absl::string_view population);
+  absl::StatusOr<std::vector<std::string>> ListGarmentIds(absl::string_view tenant) const {
+    return store_->ListGarmentIds(tenant);
+  }
+  // Population name to current avatar basis id, read from the store each call (a listing is
+  // rare: once per page load).
+  absl::StatusOr<std::map<std::string, std::string>> CurrentAvatarBases(
+      absl::string_view tenant) const {
+    return store_->ListCurrentAvatarBases(tenant);
+  }
+  // By id, whichever tenant published it: callers reach an id only through their own
+  // tenant's garments or pointers.
+  absl::StatusOr<std::shared_ptr<const pipeline::LoadedAvatarBasis>> AvatarBasis(
+      absl::string_view avatar_basis_id);
 
  private:
   absl::Time Now() const { return clock_->Now(); }

@@ -55,6 +55,13 @@ absl::StatusOr<std::unique_ptr<FitServer>> FitServer::Start(FitServerOptions opt
   return server;
 }
 
+std::shared_ptr<grpc::Channel> FitServer::InProcessChannel() {
+  grpc::ChannelArguments arguments;
+  arguments.SetMaxReceiveMessageSize(options_.max_send_bytes);
+  arguments.SetMaxSendMessageSize(options_.max_receive_bytes);
+  return server_->InProcessChannel(arguments);
+}
+
 void FitServer::Shutdown(absl::Duration grace) {
   if (stopped_) return;
   stopped_ = true;

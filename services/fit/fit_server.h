@@ -45,6 +45,9 @@ class FitServer {
 
   int port() const { return port_; }
   FitCatalog& catalog() { return *catalog_; }
+  // A channel to this server's services inside the process (the HTTP API's way in): calls
+  // pass the same keys, limits and errors as over the network, without a socket.
+  std::shared_ptr<grpc::Channel> InProcessChannel();
   void Shutdown(absl::Duration grace);
 
  private:

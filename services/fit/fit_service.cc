@@ -11,6 +11,9 @@
 #include "absl/time/clock.h"
 #include "core/body_measurements.h"
 #include "core/clothing_model.h"
+#include "core/pca_basis.h"
+#include "core/size_advice.h"
+#include "proto/mesh_codec.h"
 #include "core/status_macros.h"
 #include "proto/avatar_codec.h"
 #include "proto/draco_codec.h"
@@ -35,16 +38,23 @@ absl::Status CheckAlive(const grpc::CallbackServerContext& context) {
   return absl::OkStatus();
 }
 
-// One garment size fitted to the weights, encoded as asked.
-absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view tenant,
-                                         const v1::AvatarWeights& weights,
-                                         const ServedGarment& garment,
-                                         absl::string_view garment_id, absl::string_view size,
-                                         absl::string_view method_name,
-                                         v1::PositionsEncoding encoding, bool with_metrics,
-                                         bool cleanup) {
-  const std::string method = method_name.empty() ? "linear" : std::string(method_name);
-  RETURN_IF_ERROR(core::ParseClothingMethod(method).status());
+// One garment size fitted to the weights.
+struct SizeFitted {
+  std::shared_ptr<const ServedClothing> clothing;
+  std::string method;
+  Eigen::VectorXf positions;  // 3V, xyz interleaved, m.
+  int64_t pushed = 0;
+  absl::Duration compute;
+};
+
+absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view tenant,
+                                        const v1::AvatarWeights& weights,
+                                        const ServedGarment& garment,
+                                        absl::string_view garment_id, absl::string_view size,
+                                        absl::string_view method_name, bool cleanup) {
+  SizeFitted out;
+  out.method = method_name.empty() ? "linear" : std::string(method_name);
+  RETURN_IF_ERROR(core::ParseClothingMethod(out.method).status());
   const auto& sizes = garment.topology.sizes();
   if (std::find(sizes.begin(), sizes.end(), size) == sizes.end()) {
     return absl::NotFoundError(absl::StrCat("garment ", garment_id, " has no size '", size,
@@ -52,15 +62,15 @@ absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view 
   }
   absl::StatusOr<std::shared_ptr<const ServedClothing>> found =
       catalog.Clothing({std::string(tenant), std::string(garment_id), std::string(size),
-                        garment.avatar_basis_id, method});
+                        garment.avatar_basis_id, out.method});
   if (absl::IsNotFound(found.status())) {
     return absl::NotFoundError(absl::StrCat("garment ", garment_id, " size ", size,
-                                            " has no published ", method,
+                                            " has no published ", out.method,
                                             " clothing basis; build it first"));
   }
   if (!found.ok()) return found.status();
-  const std::shared_ptr<const ServedClothing> clothing = *std::move(found);
-  const int components = clothing->fitter.model().component_count;
+  out.clothing = *std::move(found);
+  const int components = out.clothing->fitter.model().component_count;
   if (weights.weights_size() != components) {
     return absl::InvalidArgumentError(absl::StrCat("the weights have ", weights.weights_size(),
                                                    " components; avatar basis ",
@@ -74,10 +84,27 @@ absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view 
     w(k) = static_cast<float>(weights.weights(k));
   }
   thread_local core::FitScratch scratch;
-  thread_local Eigen::VectorXf positions;
   const absl::Time start = absl::Now();
-  ASSIGN_OR_RETURN(int64_t pushed, clothing->fitter.Fit(w, cleanup, scratch, positions));
-  const absl::Duration compute = absl::Now() - start;
+  ASSIGN_OR_RETURN(out.pushed, out.clothing->fitter.Fit(w, cleanup, scratch, out.positions));
+  out.compute = absl::Now() - start;
+  return out;
+}
+
+// One garment size fitted to the weights, encoded as asked.
+absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view tenant,
+                                         const v1::AvatarWeights& weights,
+                                         const ServedGarment& garment,
+                                         absl::string_view garment_id, absl::string_view size,
+                                         absl::string_view method_name,
+                                         v1::PositionsEncoding encoding, bool with_metrics,
+                                         bool cleanup) {
+  ASSIGN_OR_RETURN(SizeFitted one, FitPositions(catalog, tenant, weights, garment, garment_id,
+                                                size, method_name, cleanup));
+  const std::shared_ptr<const ServedClothing>& clothing = one.clothing;
+  const std::string& method = one.method;
+  const Eigen::VectorXf& positions = one.positions;
+  const int64_t pushed = one.pushed;
+  const absl::Duration compute = one.compute;
 
   v1::FittedGarment fitted;
   fitted.set_garment_id(std::string(garment_id));
@@ -122,6 +149,37 @@ absl::StatusOr<std::shared_ptr<const ServedGarment>> GarmentForWeights(
   }
   return garment;
 }
+
+// mean + components x weights, as 13,380 x 3 positions (m).
+absl::StatusOr<core::Positions> BodyPositions(const pipeline::LoadedAvatarBasis& basis,
+                                              const v1::AvatarWeights& weights) {
+  if (weights.weights_size() != basis.pca.variances.size()) {
+    return absl::InvalidArgumentError(absl::StrCat("the weights have ", weights.weights_size(),
+                                                   " components; avatar basis ",
+                                                   basis.message.id(), " has ",
+                                                   basis.pca.variances.size()));
+  }
+  Eigen::VectorXd w(weights.weights_size());
+  for (int k = 0; k < weights.weights_size(); ++k) {
+    if (!std::isfinite(weights.weights(k))) {
+      return absl::InvalidArgumentError(absl::StrCat("weight ", k, " is not finite"));
+    }
+    w(k) = weights.weights(k);
+  }
+  const Eigen::VectorXd flat = core::ReconstructFromWeights(basis.pca, w);
+  return core::Positions(
+      Eigen::Map<const core::Positions>(flat.data(), flat.size() / 3, 3));
+}
+
+absl::StatusOr<v1::Avatar> BodyOfWeights(const pipeline::LoadedAvatarBasis& basis,
+                                         const v1::AvatarWeights& weights, bool draco) {
+  ASSIGN_OR_RETURN(core::Positions positions, BodyPositions(basis, weights));
+  return proto::AvatarFromPositions(positions, draco);
+}
+
+// How far beyond its example drapes a clothing basis is still trusted, as a multiple of their
+// reach: the linear model's error grows quickly past about twice it.
+constexpr double kReachFactor = 2.0;
 
 int FitThreads(const FitServiceOptions& options) {
   if (options.threads > 0) return options.threads;
@@ -207,6 +265,11 @@ grpc::ServerUnaryReactor* FitService::ProjectAvatar(grpc::CallbackServerContext*
       }
     }
     response->set_out_of_distribution(response->reasons_size() > 0);
+    if (request->with_body()) {
+      ASSIGN_OR_RETURN(*response->mutable_body(),
+                       BodyOfWeights(*basis, weights,
+                                     request->encoding() != v1::POSITIONS_ENCODING_RAW));
+    }
     return absl::OkStatus();
   });
 }
@@ -321,6 +384,154 @@ grpc::ServerUnaryReactor* FitService::AvatarFromMeasurements(
       response->add_reasons(std::move(reason));
     }
     response->set_out_of_distribution(response->reasons_size() > 0);
+    return absl::OkStatus();
+  });
+}
+
+}  // namespace fitbase::fit
+
+namespace fitbase::fit {
+
+grpc::ServerUnaryReactor* FitService::AdviseSize(grpc::CallbackServerContext* context,
+                                                 const v1::AdviseSizeRequest* request,
+                                                 v1::SizeAdvice* response) {
+  return Admit(context, [this, context, request, response]() -> absl::Status {
+    ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
+    ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
+                     GarmentForWeights(*catalog_, principal.tenant, request->garment_id(),
+                                       request->weights()));
+    if (garment->advice == nullptr) {
+      return absl::FailedPreconditionError(absl::StrCat("garment ", request->garment_id(),
+                                                        " cannot be sized: ",
+                                                        garment->advice_error.message()));
+    }
+    const pipeline::AdviceGarment& advice = *garment->advice;
+    ASSIGN_OR_RETURN(std::shared_ptr<const pipeline::LoadedAvatarBasis> basis,
+                     catalog_->AvatarBasis(garment->avatar_basis_id));
+    ASSIGN_OR_RETURN(core::Positions body_positions, BodyPositions(*basis, request->weights()));
+    ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis->message.mean()));
+    RETURN_IF_ERROR(CheckAlive(*context));
+    ASSIGN_OR_RETURN(pipeline::AdviceBody body,
+                     pipeline::MeasureAdviceBody(std::move(body_positions),
+                                                 core::Triangulate(mean.faces)));
+
+    // The sizes asked for, or every served one, in the garment's grading order.
+    std::vector<int> sizes;
+    for (int i = 0; i < static_cast<int>(advice.size_names.size()); ++i) {
+      const std::string& name = advice.size_names[i];
+      if (request->sizes().empty() ||
+          std::find(request->sizes().begin(), request->sizes().end(), name) !=
+              request->sizes().end()) {
+        sizes.push_back(i);
+      }
+    }
+    for (const std::string& name : request->sizes()) {
+      if (std::find(advice.size_names.begin(), advice.size_names.end(), name) ==
+          advice.size_names.end()) {
+        return absl::NotFoundError(absl::StrCat("garment ", request->garment_id(),
+                                                " has no size '", name, "'; it has ",
+                                                absl::StrJoin(advice.size_names, ",")));
+      }
+    }
+    std::vector<int> judged_sizes;
+    std::vector<pipeline::SizeJudgement> judged;
+    Eigen::VectorXd reach;
+    for (int size : sizes) {
+      RETURN_IF_ERROR(CheckAlive(*context));
+      absl::StatusOr<SizeFitted> fitted =
+          FitPositions(*catalog_, principal.tenant, request->weights(), *garment,
+                       request->garment_id(), advice.size_names[size], request->method(),
+                       /*cleanup=*/true);
+      // Every size: only those with a published clothing basis.
+      if (request->sizes().empty() && absl::IsNotFound(fitted.status())) continue;
+      if (!fitted.ok()) return fitted.status();
+      reach = fitted->clothing->example_reach;
+      const core::Positions positions = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3,
+                                                                       Eigen::RowMajor>>(
+                                            fitted->positions.data(),
+                                            fitted->positions.size() / 3, 3)
+                                            .cast<double>();
+      ASSIGN_OR_RETURN(pipeline::SizeJudgement one,
+                       pipeline::JudgeSize(advice, size, body, positions));
+      judged_sizes.push_back(size);
+      judged.push_back(std::move(one));
+    }
+    if (judged.empty()) {
+      return absl::NotFoundError(absl::StrCat("garment ", request->garment_id(),
+                                              " has no published clothing basis"));
+    }
+    *response = pipeline::AssembleAdvice(advice, judged_sizes, judged, /*with_maps=*/true);
+    response->set_garment_id(request->garment_id());
+
+    // Out of distribution: a weight far from the avatar population, or far beyond the drapes
+    // the clothing basis was built from (the model extrapolates there).
+    const v1::AvatarWeights& weights = request->weights();
+    for (int k = 0; k < weights.weights_size(); ++k) {
+      const double sigmas = std::abs(weights.weights(k)) / std::sqrt(basis->pca.variances(k));
+      if (sigmas > options_.ood_sigmas) {
+        response->add_ood_reasons(
+            absl::StrFormat("component %d lies %.1f sigma from the mean", k, sigmas));
+      } else if (k < reach.size() && reach(k) > 0 &&
+                 std::abs(weights.weights(k)) > kReachFactor * reach(k)) {
+        response->add_ood_reasons(absl::StrFormat(
+            "component %d lies %.1fx as far out as the drapes the garment was fitted from", k,
+            std::abs(weights.weights(k)) / reach(k)));
+      }
+    }
+    response->set_out_of_distribution(response->ood_reasons_size() > 0);
+    if (response->out_of_distribution()) {
+      // The advice stands on an extrapolated fit: say so in the confidence as well.
+      response->set_confidence(response->confidence() * 0.5);
+    }
+    return absl::OkStatus();
+  });
+}
+
+grpc::ServerUnaryReactor* FitService::ListShopGarments(grpc::CallbackServerContext* context,
+                                                   const v1::ListShopGarmentsRequest* /*request*/,
+                                                   v1::ShopGarments* response) {
+  return Admit(context, [this, context, response]() -> absl::Status {
+    ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
+    ASSIGN_OR_RETURN(std::vector<std::string> ids, catalog_->ListGarmentIds(principal.tenant));
+    ASSIGN_OR_RETURN(const auto populations, catalog_->CurrentAvatarBases(principal.tenant));
+    for (const std::string& id : ids) {
+      RETURN_IF_ERROR(CheckAlive(*context));
+      ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
+                       catalog_->Garment(principal.tenant, id));
+      v1::GarmentSummary summary;
+      summary.set_garment_id(id);
+      summary.set_name(garment->topology.name());
+      if (garment->advice != nullptr) {
+        summary.set_garment_type(std::string(core::GarmentTypeName(garment->advice->type)));
+      }
+      for (const auto& [population, basis_id] : populations) {
+        if (basis_id == garment->avatar_basis_id) summary.set_population(population);
+      }
+      for (const std::string& size : garment->topology.sizes()) {
+        absl::StatusOr<std::shared_ptr<const ServedClothing>> clothing = catalog_->Clothing(
+            {principal.tenant, id, size, garment->avatar_basis_id, "linear"});
+        if (clothing.ok()) summary.add_sizes(size);
+      }
+      // A garment a customer can be fitted to: served, on a current avatar basis.
+      if (summary.sizes_size() > 0 && !summary.population().empty()) {
+        *response->add_garments() = std::move(summary);
+      }
+    }
+    return absl::OkStatus();
+  });
+}
+
+grpc::ServerUnaryReactor* FitService::GetBodyTopology(grpc::CallbackServerContext* context,
+                                                      const v1::GetBodyTopologyRequest* request,
+                                                      v1::BodyTopology* response) {
+  return Admit(context, [this, context, request, response]() -> absl::Status {
+    ASSIGN_OR_RETURN(rpc::Principal principal, AdmitCustomer(*context, *keys_));
+    if (request->population().empty()) return absl::InvalidArgumentError("population is empty");
+    ASSIGN_OR_RETURN(std::shared_ptr<const pipeline::LoadedAvatarBasis> basis,
+                     catalog_->CurrentAvatarBasis(principal.tenant, request->population()));
+    response->set_avatar_basis_id(basis->message.id());
+    *response->mutable_faces() = basis->message.mean();
+    response->mutable_faces()->clear_positions();
     return absl::OkStatus();
   });
 }

@@ -61,6 +61,18 @@ class FitService final : public v1::FitService::CallbackService {
   grpc::ServerUnaryReactor* AvatarFromMeasurements(
       grpc::CallbackServerContext* context, const v1::AvatarFromMeasurementsRequest* request,
       v1::AvatarFromMeasurementsResponse* response) override;
+  // Fits every size asked for, measures each against the body of the weights and judges it:
+  // about 0.1 s of a fit thread for four sizes of an 8k-vertex garment, once per customer
+  // and garment.
+  grpc::ServerUnaryReactor* AdviseSize(grpc::CallbackServerContext* context,
+                                       const v1::AdviseSizeRequest* request,
+                                       v1::SizeAdvice* response) override;
+  grpc::ServerUnaryReactor* ListShopGarments(grpc::CallbackServerContext* context,
+                                         const v1::ListShopGarmentsRequest* request,
+                                         v1::ShopGarments* response) override;
+  grpc::ServerUnaryReactor* GetBodyTopology(grpc::CallbackServerContext* context,
+                                            const v1::GetBodyTopologyRequest* request,
+                                            v1::BodyTopology* response) override;
 
  private:
   // The basis's measurement model, built on first use. Builds are serialised so that a burst
