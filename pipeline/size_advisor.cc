@@ -36,6 +36,10 @@ std::vector<std::array<int32_t, 2>> TriangleEdges(const core::Triangles& triangl
   return pairs;
 }
 
+// The widest garment is well under twice the girth of the body under it (a loose coat's hem
+// at the hip is about 1.4x).
+constexpr double kMaxGirthRatio = 2.0;
+
 Eigen::Vector3d At(const core::Positions& p, int32_t v) { return p.row(v).transpose(); }
 
 // The garment's length (cm): a trouser leg from the crotch down to its hem when it has legs,
@@ -193,10 +197,13 @@ absl::StatusOr<SizeJudgement> JudgeSize(const AdviceGarment& garment, int size,
   for (const auto& [region, measurement] : kGirths) {
     const auto& place = body.places[static_cast<int>(measurement)];
     if (!place.has_value()) continue;
-    // A thigh's loop must not hold the other thigh too (shorts cut low between the legs).
+    // A limb's loop must go round that limb alone: not hold the other thigh too (shorts cut
+    // low between the legs), nor the torso (a sleeve's section that runs into the body).
     std::vector<Eigen::Vector3d> outside;
     if (region == core::FitRegion::kThigh) {
       outside.push_back(place->inside.cwiseProduct(Eigen::Vector3d(-1, 1, 1)));
+    } else if (region == core::FitRegion::kUpperArm) {
+      outside.push_back(Eigen::Vector3d(0, place->inside.y(), place->inside.z()));
     }
     const AdviceBody::TorsoSection& split = body.torso_sections[static_cast<int>(measurement)];
     auto nearest = [](const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& x) {
@@ -212,9 +219,12 @@ absl::StatusOr<SizeJudgement> JudgeSize(const AdviceGarment& garment, int size,
     }
     const std::optional<core::GarmentGirth> girth =
         core::GarmentGirthAt(fitted, garment.triangles, rest, *place, outside, counts);
-    if (!girth.has_value()) continue;
+    const double body_girth = body.measurements[static_cast<int>(measurement)];
+    // Twice the body's girth is no garment's ease there but a section that caught more than
+    // that part of the body; the region is left unjudged rather than judged wrong.
+    if (!girth.has_value() || girth->rest > kMaxGirthRatio * body_girth) continue;
     core::RegionFitValue value{.region = region};
-    value.body_cm = 100 * body.measurements[static_cast<int>(measurement)];
+    value.body_cm = 100 * body_girth;
     value.garment_cm = 100 * girth->rest;
     value.ease_cm = value.garment_cm - value.body_cm;
     value.stretch_pct = 100 * girth->stretch;

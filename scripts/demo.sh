@@ -4,9 +4,17 @@
 # whole stack (coordinator, two workers, fit service) to build the clothing bases of a women's
 # and a men's garment in two sizes and serve a customer's calls over gRPC; and drapes a shared
 # garment in three sizes onto a held-out customer.
+# It ends with the shopper's try-on page served, its URL printed and a headless screenshot in
+# demo-out/tryon.png; with --serve the page stays up until Ctrl-C.
 # Everything it writes lands in demo-out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+keep_serving=false
+case "${1:-}" in
+  "") ;;
+  --serve) keep_serving=true ;;
+  *) echo "usage: scripts/demo.sh [--serve]" >&2; exit 2 ;;
+esac
 scripts/setup.sh
 fitbase=build/fitbase
 out=demo-out
@@ -50,13 +58,15 @@ admin_key=$("$fitbase" keys add --file "$keys" --tenant demo --role admin 2>/dev
 shop_key=$("$fitbase" keys add --file "$keys" --tenant demo --role customer 2>/dev/null)
 mkfifo "$out/serve.fifo"
 "$fitbase" serve --role all --db "$out/store" --listen 127.0.0.1:0 --fit-listen 127.0.0.1:0 \
-  --api-keys "$keys" --workers 2 > "$out/serve.fifo" 2> "$out/serve.log" &
+  --http-listen 127.0.0.1:0 --api-keys "$keys" --workers 2 > "$out/serve.fifo" \
+  2> "$out/serve.log" &
 serve_pid=$!
 trap 'kill "$serve_pid" 2>/dev/null || true' EXIT
 exec 3< "$out/serve.fifo"
 read -r _ coordinator <&3
 read -r _ fit <&3
-echo "== stack: coordinator $coordinator, fit service $fit (logs: $out/serve.log)"
+read -r _ page <&3
+echo "== stack: coordinator $coordinator, fit service $fit, page $page (logs: $out/serve.log)"
 
 declare -A garment_of=([women]=female_casualsuit01 [men]=male_casualsuit02)
 declare -A garment_id build_id
@@ -108,9 +118,6 @@ for preset in women men; do
     done
   } | tee -a "$out/customer/summary.txt"
 done
-kill "$serve_pid"
-wait "$serve_pid" || true
-trap - EXIT
 
 # The offline fitter: one shared garment, imported onto the `all` basis's mean avatar and
 # draped in three sizes onto a held-out customer, next to the geometric baseline.
@@ -158,3 +165,22 @@ echo "store/ (avatar bases, garments, drapes, clothing bases, builds), api-keys,
 echo "customer/: per population the avatar, its weights, the fitted garments (M, XL), the outfit, summary.txt;"
 echo "  the second customer's typed measurements, the body made from them, its weights and fitted garments (*-2-*);"
 echo "women/measurements.txt, men/measurements.txt: bodies from measurements of the held-out avatars"
+
+# The shopper's page: the browser tests drive Debian's chromium through a sample body, a size
+# switch and bad uploads, and leave a screenshot of the fit.
+echo
+echo "== The try-on page (browser checks and screenshot: $out/tryon.png)"
+node web/tests/tryon.test.mjs --server "http://$page" --key "$shop_key" \
+  --screenshot "$out/tryon.png" > "$out/tryon-tests.txt" 2>&1 ||
+  { tail -20 "$out/tryon-tests.txt"; exit 1; }
+grep -E "^# (pass|fail)" "$out/tryon-tests.txt"
+echo "Try it on: http://$page/#key=$shop_key"
+if $keep_serving; then
+  echo "Serving until Ctrl-C."
+  trap 'kill "$serve_pid" 2>/dev/null || true' INT
+  wait "$serve_pid" || true
+else
+  kill "$serve_pid"
+  wait "$serve_pid" || true
+fi
+trap - EXIT

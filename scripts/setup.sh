@@ -21,8 +21,11 @@ packages=(
   protobuf-compiler libprotobuf-dev protobuf-compiler-grpc libgrpc++-dev libabsl-dev libssl-dev
   libeigen3-dev librocksdb-dev libdraco-dev libopenmesh-dev libcli11-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev libsuitesparse-dev libopenblas0-pthread
-  libcpp-httplib-dev clang-16 libclang-rt-16-dev
+  libcpp-httplib-dev clang-16 libclang-rt-16-dev chromium
 )
+# The page's packages come from npm (web/package-lock.json); Debian's Node.js only where the
+# machine has none of its own (a Node.js from elsewhere ships its own npm).
+command -v npm > /dev/null || packages+=(nodejs npm)
 sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"
 missing=()
@@ -46,6 +49,15 @@ for lib in libblas.so.3 liblapack.so.3; do
   fi
 done
 if $packages_only; then exit 0; fi
+
+# three.js for the page and playwright-core for its browser tests, exactly as locked; no
+# browser download (the tests drive Debian's chromium).
+if [ ! -f web/node_modules/.package-lock.json ] ||
+   ! cmp -s web/package-lock.json web/node_modules/.fitbase-lock; then
+  echo "setup: npm ci in web/"
+  (cd web && PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund --loglevel=error)
+  cp web/package-lock.json web/node_modules/.fitbase-lock
+fi
 
 # MakeHuman data (CC0), never committed: a link to ../shared/data/makehuman beside the checkout
 # when there is one, else the pinned upstream files. scripts/makehuman_manifest.sha256 pins
