@@ -50,19 +50,6 @@ double SignedArea(const std::vector<Eigen::Vector2d>& loop) {
   return twice / 2;
 }
 
-bool Contains(const std::vector<Eigen::Vector2d>& loop, const Eigen::Vector2d& p) {
-  bool inside = false;
-  for (size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
-    const Eigen::Vector2d& a = loop[i];
-    const Eigen::Vector2d& b = loop[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
-  }
-  return inside;
-}
-
 // The centroid of a loop's points, in the section's plane.
 Eigen::Vector2d Centroid(const std::vector<Eigen::Vector2d>& loop) {
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
@@ -78,13 +65,28 @@ struct Band {
 
 }  // namespace
 
+bool LoopContains(const std::vector<Eigen::Vector2d>& loop, const Eigen::Vector2d& p) {
+  bool inside = false;
+  for (size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
+    const Eigen::Vector2d& a = loop[i];
+    const Eigen::Vector2d& b = loop[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+double LoopArea(const std::vector<Eigen::Vector2d>& loop) { return std::abs(SignedArea(loop)); }
+
 double GirthAround(const PlaneSection& section, const Eigen::Vector3d& inside) {
   const Eigen::Vector3d d = inside - section.origin;
   const Eigen::Vector2d p(d.dot(section.u), d.dot(section.v));
   double best = std::numeric_limits<double>::quiet_NaN();
   double best_area = 0;
   for (const auto& loop : section.loops) {
-    if (loop.size() < 3 || !Contains(loop, p)) continue;
+    if (loop.size() < 3 || !LoopContains(loop, p)) continue;
     // Nested loops (an inner surface) cannot occur on a body; keep the largest anyway.
     const double area = std::abs(SignedArea(loop));
     if (area > best_area) {
@@ -331,7 +333,7 @@ absl::StatusOr<BodyMeasurements> MeasureBody(
     const Eigen::Vector3d d = inside - section.origin;
     const Eigen::Vector2d p(d.dot(section.u), d.dot(section.v));
     for (const auto& loop : section.loops) {
-      if (loop.size() < 3 || !Contains(loop, p)) continue;
+      if (loop.size() < 3 || !LoopContains(loop, p)) continue;
       for (const Eigen::Vector2d& q : loop) {
         const Eigen::Vector3d world = section.origin + q.x() * section.u + q.y() * section.v;
         if (std::abs(world.x()) > arm_line) return std::numeric_limits<double>::quiet_NaN();

@@ -103,6 +103,11 @@ struct GirthPlace {
   Eigen::Vector3d inside;
 };
 
+// Whether the closed 2D polygon `loop` holds `p` (even-odd rule).
+bool LoopContains(const std::vector<Eigen::Vector2d>& loop, const Eigen::Vector2d& p);
+// The area a closed 2D polygon encloses (absolute, any winding).
+double LoopArea(const std::vector<Eigen::Vector2d>& loop);
+
 // The convex hull perimeter of the loop of `section` that encloses `inside` (a point of its
 // plane), m, or NaN when no loop does; the largest such loop when several do.
 double GirthAround(const PlaneSection& section, const Eigen::Vector3d& inside);

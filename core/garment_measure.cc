@@ -19,29 +19,6 @@ uint64_t EdgeKey(int32_t a, int32_t b) {
   return (static_cast<uint64_t>(std::min(a, b)) << 32) | static_cast<uint32_t>(std::max(a, b));
 }
 
-double Area(const std::vector<Eigen::Vector2d>& loop) {
-  double twice = 0;
-  for (size_t i = 0; i < loop.size(); ++i) {
-    const Eigen::Vector2d& a = loop[i];
-    const Eigen::Vector2d& b = loop[(i + 1) % loop.size()];
-    twice += a.x() * b.y() - a.y() * b.x();
-  }
-  return std::abs(twice) / 2;
-}
-
-bool Encloses(const std::vector<Eigen::Vector2d>& loop, const Eigen::Vector2d& p) {
-  bool inside = false;
-  for (size_t i = 0, j = loop.size() - 1; i < loop.size(); j = i++) {
-    const Eigen::Vector2d& a = loop[i];
-    const Eigen::Vector2d& b = loop[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      inside = !inside;
-    }
-  }
-  return inside;
-}
-
 // The rest length of the segment between two section points that cross one triangle: the
 // triangle is laid out flat from its three rest edge lengths, and the points keep their
 // parameters along their edges, which is exact for the affine map between rest and fitted.
@@ -189,11 +166,11 @@ std::optional<GarmentGirth> GarmentGirthAt(const Positions& fitted, const Triang
   double best_area = 0;
   for (size_t i = 0; i < loops.size(); ++i) {
     const Loop& loop = loops[i];
-    if (loop.points.size() < 3 || !Encloses(loop.points, inside)) continue;
+    if (loop.points.size() < 3 || !LoopContains(loop.points, inside)) continue;
     bool excluded = false;
-    for (const Eigen::Vector3d& x : outside) excluded |= Encloses(loop.points, in_plane(x));
+    for (const Eigen::Vector3d& x : outside) excluded |= LoopContains(loop.points, in_plane(x));
     if (excluded) continue;
-    const double area = Area(loop.points);
+    const double area = LoopArea(loop.points);
     if (best < 0 || area < best_area) {
       best = static_cast<int>(i);
       best_area = area;
