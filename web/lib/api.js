@@ -1,7 +1,7 @@
 // Client of the JSON API in docs/http-api.md. Every failure becomes an ApiError whose message
 // is the service's own when it sent one, so the page can show it to the shopper verbatim.
 
-export class ApiError extends Error {
+class ApiError extends Error {
   constructor(message, { status = 0, code = 'UNKNOWN' } = {}) {
     super(message);
     this.name = 'ApiError';

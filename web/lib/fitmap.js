@@ -39,7 +39,7 @@ export const MAP_MODES = {
 // The garment's colour when no map is shown, and where a map has no value (non-finite).
 export const CLOTH_COLOR = '#6b7a99';
 
-export function bandIndex(value, edges) {
+function bandIndex(value, edges) {
   let band = 0;
   while (band < edges.length && value >= edges[band]) band++;
   return band;

@@ -6,8 +6,9 @@ import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
 // The decoder ships inside the three npm package, served by fitbase itself: no CDN.
 const draco = new DRACOLoader().setDecoderPath('/vendor/three/examples/jsm/libs/draco/');
 
+// The protobuf JSON mapping lets a printer use either base64 alphabet; atob knows one.
 function base64ToArrayBuffer(base64) {
-  const binary = atob(base64);
+  const binary = atob(base64.replace(/-/g, '+').replace(/_/g, '/'));
   const bytes = new Uint8Array(binary.length);
   for (let i = 0; i < binary.length; i++) bytes[i] = binary.charCodeAt(i);
   return bytes.buffer;

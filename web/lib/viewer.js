@@ -28,8 +28,8 @@ const CLICK_SLOP_PX = 5;
 export class Viewer {
   constructor(container, { onPick }) {
     this.container = container;
-    // preserveDrawingBuffer: screenshots and pixel reads of the canvas (tests, shop previews)
-    // see the last frame even between renders.
+    // preserveDrawingBuffer: screenshots and pixel reads of the canvas (the tests) see the
+    // last frame even between renders.
     this.renderer = new WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
     container.append(this.renderer.domElement);
@@ -63,8 +63,8 @@ export class Viewer {
     this.body = null;
     this.garment = null;
     this.marker = new Mesh(
-      new SphereGeometry(0.008, 16, 12),
-      new MeshStandardMaterial({ color: '#111111', emissive: '#ffffff', emissiveIntensity: 0.2 }),
+      new SphereGeometry(0.009, 16, 12),
+      new MeshStandardMaterial({ color: '#000000', roughness: 0.4 }),
     );
     this.marker.visible = false;
     this.scene.add(this.marker);
