@@ -1,5 +1,5 @@
-// fitbase customer project|from-measurements|fit|outfit: the fit service's calls as a shop
-// makes them.
+// fitbase customer project|from-measurements|fit|outfit|advise: the fit service's calls as a
+// shop makes them.
 #include <filesystem>
 #include <iostream>
 
@@ -40,6 +40,7 @@ struct CustomerFlags {
   std::string method = "linear";
   bool raw = false;
   std::string garments;
+  std::string sizes;
   std::string out;
 };
 
@@ -130,6 +131,44 @@ absl::Status RunFit(const CustomerFlags& flags) {
   return absl::OkStatus();
 }
 
+absl::Status RunAdvise(const CustomerFlags& flags) {
+  ASSIGN_OR_RETURN(v1::AvatarWeights weights, ReadWeights(flags.weights));
+  v1::AdviseSizeRequest request;
+  *request.mutable_weights() = weights;
+  request.set_garment_id(flags.garment);
+  request.set_method(flags.method);
+  for (absl::string_view size : absl::StrSplit(flags.sizes, ',', absl::SkipWhitespace())) {
+    request.add_sizes(std::string(size));
+  }
+  auto stub = v1::FitService::NewStub(rpc::OpenChannel(flags.remote.address));
+  ASSIGN_OR_RETURN(std::unique_ptr<grpc::ClientContext> context,
+                   NewCallContext(flags.remote, absl::Seconds(flags.remote.timeout_seconds)));
+  v1::SizeAdvice advice;
+  RETURN_IF_ERROR(rpc::FromGrpcStatus(stub->AdviseSize(context.get(), request, &advice)));
+  std::cout << absl::StrFormat("We recommend %s (%.0f%% confidence; ease bands of a %s)\n",
+                               advice.recommended_size(), 100 * advice.confidence(),
+                               advice.garment_type());
+  for (const std::string& reason : advice.reasons()) std::cout << "  " << reason << "\n";
+  for (const std::string& reason : advice.ood_reasons()) {
+    std::cout << "  out of distribution: " << reason << "\n";
+  }
+  for (const v1::SizeFit& size : advice.sizes()) {
+    std::cout << absl::StrFormat("%-5s %-8s %-15s %9s %9s %9s %8s\n", size.size(),
+                                 size.verdict(), "region", "body_cm", "garment", "ease_cm",
+                                 "stretch%");
+    for (const v1::RegionFit& region : size.regions()) {
+      std::cout << absl::StrFormat("%-14s %-15s %9.1f %9.1f %+9.1f %8.1f  %s\n", "",
+                                   region.region(), region.body_cm(), region.garment_cm(),
+                                   region.ease_cm(), region.stretch_pct(), region.verdict());
+    }
+  }
+  if (!flags.out.empty()) {
+    RETURN_IF_ERROR(core::WriteFileAtomically(flags.out, proto::ToJson(advice)));
+    std::cout << "wrote " << flags.out << " (with the per-vertex fit maps)\n";
+  }
+  return absl::OkStatus();
+}
+
 absl::Status RunOutfit(const CustomerFlags& flags) {
   ASSIGN_OR_RETURN(v1::AvatarWeights weights, ReadWeights(flags.weights));
   v1::FitOutfitRequest request;
@@ -212,6 +251,17 @@ void AddCustomerCommands(CLI::App& app, CliContext& context) {
   outfit->add_flag("--raw", flags->raw, "Ask for raw float32 positions instead of Draco");
   outfit->add_option("--out", flags->out, "Output folder")->required();
   outfit->callback([&context, flags] { context.action = [flags] { return RunOutfit(*flags); }; });
+
+  CLI::App* advise = customer->add_subcommand(
+      "advise", "Which size to buy: every size judged at the body's girths, with a fit map");
+  AddRemoteOptions(advise, flags->remote, "--server");
+  advise->add_option("--weights", flags->weights, "Weights JSON (customer project)")
+      ->required();
+  advise->add_option("--garment", flags->garment, "Garment id")->required();
+  advise->add_option("--sizes", flags->sizes, "Comma-separated sizes (default: every built one)");
+  advise->add_option("--method", flags->method, "linear, quadratic or paper (default linear)");
+  advise->add_option("--out", flags->out, "Also write the whole advice as JSON here");
+  advise->callback([&context, flags] { context.action = [flags] { return RunAdvise(*flags); }; });
 }
 
 }  // namespace fitbase::cli

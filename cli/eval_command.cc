@@ -1,4 +1,5 @@
-// fitbase eval: the accuracy table of the fast fit against the physics drape.
+// fitbase eval: the accuracy table of the fast fit against the physics drape, or (--advice)
+// the agreement of its size advice with the drape's.
 #include <iostream>
 
 #include "absl/strings/str_split.h"
@@ -27,6 +28,7 @@ struct EvalFlags {
   workers::DrapeSchedule schedule;
   std::string cache;
   std::string out;
+  std::string advice_sizes;
 };
 
 absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
@@ -58,6 +60,16 @@ absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
               .jobs = flags.jobs,
               .label = "drapes"};
   spec.clothing_dir = out;
+  if (!flags.advice_sizes.empty()) {
+    const std::vector<std::string> sizes =
+        absl::StrSplit(flags.advice_sizes, ',', absl::SkipWhitespace());
+    ASSIGN_OR_RETURN(std::vector<pipeline::AdviceAgreement> rows,
+                     pipeline::EvaluateAdviceAgreement(model, spec, sizes));
+    const std::string markdown = pipeline::AdviceAgreementMarkdown(rows, sizes, spec);
+    RETURN_IF_ERROR(core::WriteFileAtomically(out / "advice.md", markdown));
+    std::cout << markdown << "\nwrote " << (out / "advice.md").string() << "\n";
+    return absl::OkStatus();
+  }
   ASSIGN_OR_RETURN(v1::AccuracyReport report, pipeline::EvaluateAccuracy(model, spec));
   const std::string markdown = pipeline::AccuracyReportMarkdown(report);
   RETURN_IF_ERROR(core::WriteFileAtomically(out / "report.md", markdown));
@@ -78,6 +90,9 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
       ->required()
       ->delimiter(',');
   eval->add_option("--size", flags->size, "Size name (default: M)");
+  eval->add_option("--advice", flags->advice_sizes,
+                   "Instead of the accuracy table: the size advice of the fast fit against the "
+                   "drape's, over these sizes judged together (e.g. S,M,L,XL); writes advice.md");
   eval->add_option("--holdout", flags->holdout, "Held-out avatars (default: 20)")
       ->check(CLI::Range(1, 100000));
   eval->add_option("--seed", flags->seed,

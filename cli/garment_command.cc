@@ -21,6 +21,7 @@ struct GarmentFlags {
   std::string obj;
   std::string basis;
   std::string name;
+  std::string type;
   std::string sizes = "S,M,L,XL";
   std::vector<std::string> size_meshes;
   std::string out;
@@ -44,6 +45,7 @@ absl::StatusOr<pipeline::GarmentImportRequest> ReadRequest(const GarmentFlags& f
   ASSIGN_OR_RETURN(pipeline::GarmentImportRequest request, pipeline::ReadGarmentImportFiles(paths));
   request.name = flags.name;
   request.sizes = absl::StrSplit(flags.sizes, ',', absl::SkipWhitespace());
+  request.garment_type = flags.type;
   return request;
 }
 
@@ -75,6 +77,7 @@ absl::Status RunUpload(const GarmentFlags& flags) {
   *upload.mutable_obj() = ToProto(request.obj);
   if (request.mhclo.has_value()) *upload.mutable_mhclo() = ToProto(*request.mhclo);
   for (const std::string& size : request.sizes) upload.add_sizes(size);
+  upload.set_garment_type(request.garment_type);
   for (const auto& [size, file] : request.size_meshes) {
     (*upload.mutable_size_meshes())[size] = ToProto(file);
   }
@@ -96,6 +99,9 @@ void AddSourceOptions(CLI::App* command, GarmentFlags& flags) {
                                   "OBJ already placed on the basis's mean avatar (meters)");
   mhclo->excludes(obj);
   command->add_option("--name", flags.name, "Garment name (default: the file's stem)");
+  command->add_option("--type", flags.type,
+                      "For size advice: knit, fitted, shirt or jacket (default shirt; README "
+                      "\"Size advice\")");
   command->add_option("--sizes", flags.sizes,
                       "Comma-separated sizes; M is the template (default: S,M,L,XL)");
   command->add_option("--size-mesh", flags.size_meshes,

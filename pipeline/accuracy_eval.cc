@@ -9,11 +9,13 @@
 #include "absl/strings/str_join.h"
 #include "core/clothing_fitter.h"
 #include "core/population_calibration.h"
+#include "core/pca_basis.h"
 #include "core/population_sampler.h"
 #include "core/status_macros.h"
 #include "core/triangle_bvh.h"
 #include "pipeline/avatar_projection.h"
 #include "pipeline/clothing_basis_builder.h"
+#include "pipeline/size_advisor.h"
 #include "proto/avatar_basis_codec.h"
 #include "proto/clothing_basis_codec.h"
 #include "proto/mesh_codec.h"
@@ -340,6 +342,188 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_
   }
   for (const RowStats& row : overall) *report.add_overall() = row.Finish(overall_drape_seconds);
   return report;
+}
+
+absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
+    const core::BodyModel& body_model, const AccuracyEvalSpec& spec,
+    const std::vector<std::string>& sizes) {
+  if (spec.holdout_count < 1) return absl::InvalidArgumentError("need at least 1 held-out avatar");
+  if (sizes.size() < 2) return absl::InvalidArgumentError("advice needs at least 2 sizes");
+  const v1::AvatarBasis& basis_message = *spec.avatar_basis;
+  const std::string preset_name =
+      spec.preset.empty() ? basis_message.population().preset() : spec.preset;
+  if (preset_name.empty()) {
+    return absl::InvalidArgumentError(
+        "the avatar basis has no population preset; name the held-out avatars' preset");
+  }
+  ASSIGN_OR_RETURN(core::PopulationPreset preset, core::ParsePopulationPreset(preset_name));
+  LoadedAvatarBasis basis{basis_message, {}};
+  ASSIGN_OR_RETURN(basis.pca, proto::PcaBasisFromProto(basis_message));
+  ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis_message.mean()));
+  const core::Triangles triangles = core::Triangulate(mean.faces);
+  double avatar_error = 0;
+  ASSIGN_OR_RETURN(std::vector<Holdout> holdouts,
+                   MakeHoldouts(body_model, basis, triangles, spec, preset, &avatar_error));
+
+  // Per garment and size: the example drapes, then one drape per held-out body.
+  std::vector<GarmentDrapes> plans;
+  std::vector<const workers::DrapeTask*> tasks;
+  for (const v1::Garment* garment : spec.garments) {
+    for (const std::string& size : sizes) {
+      GarmentDrapes g;
+      g.spec = {.avatar_basis = &basis_message, .garment = garment, .size = size,
+                .example_scale = spec.example_scale, .settings = spec.settings,
+                .schedule = spec.schedule};
+      ASSIGN_OR_RETURN(g.plan, PlanClothingBasis(g.spec));
+      for (const Holdout& h : holdouts) {
+        g.truth.push_back(
+            workers::MakeDrapeTask(*garment, size, h.body, spec.settings, spec.schedule));
+      }
+      plans.push_back(std::move(g));
+    }
+  }
+  for (const GarmentDrapes& g : plans) {
+    for (const workers::DrapeTask& t : g.plan.tasks) tasks.push_back(&t);
+    for (const workers::DrapeTask& t : g.truth) tasks.push_back(&t);
+  }
+  ASSIGN_OR_RETURN(std::vector<v1::DrapeResult> results, RunDrapeTasks(tasks, spec.run));
+
+  // The bodies as judged: each held-out body itself, and the body of its weights.
+  std::vector<AdviceBody> real_bodies;
+  std::vector<AdviceBody> weight_bodies;
+  for (const Holdout& h : holdouts) {
+    ASSIGN_OR_RETURN(AdviceBody real, MeasureAdviceBody(h.body, triangles));
+    real_bodies.push_back(std::move(real));
+    const Eigen::VectorXd flat = core::ReconstructFromWeights(basis.pca, h.weights.cast<double>());
+    ASSIGN_OR_RETURN(AdviceBody of_weights,
+                     MeasureAdviceBody(Eigen::Map<const core::Positions>(flat.data(),
+                                                                         flat.size() / 3, 3),
+                                       triangles));
+    weight_bodies.push_back(std::move(of_weights));
+  }
+
+  std::vector<AdviceAgreement> rows;
+  size_t offset = 0;
+  size_t plan = 0;
+  for (const v1::Garment* garment : spec.garments) {
+    ASSIGN_OR_RETURN(AdviceGarment advice, PrepareAdviceGarment(*garment));
+    const int64_t vertex_count = garment->template_mesh().vertex_count();
+    std::vector<int> indices;
+    for (const std::string& size : sizes) {
+      const auto it = std::find(advice.size_names.begin(), advice.size_names.end(), size);
+      if (it == advice.size_names.end()) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("garment ", garment->name(), " has no size ", size));
+      }
+      indices.push_back(static_cast<int>(it - advice.size_names.begin()));
+    }
+    // truth[s][h] and the fitter of each size.
+    std::vector<std::vector<v1::DrapeResult>> truth(sizes.size());
+    std::vector<core::ClothingFitter> fitters;
+    for (size_t s = 0; s < sizes.size(); ++s, ++plan) {
+      const GarmentDrapes& g = plans[plan];
+      const auto begin = results.begin() + static_cast<std::ptrdiff_t>(offset);
+      const std::vector<v1::DrapeResult> examples(
+          begin, begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size()));
+      truth[s].assign(begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size()),
+                      begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size() + g.truth.size()));
+      offset += g.plan.tasks.size() + g.truth.size();
+      ASSIGN_OR_RETURN(v1::ClothingBasis clothing,
+                       AssembleClothingBasis(g.spec, g.plan, core::ClothingMethod::kLinear,
+                                             examples));
+      ASSIGN_OR_RETURN(core::ClothingFitter fitter, proto::ClothingFitterFromProto(clothing));
+      fitters.push_back(std::move(fitter));
+    }
+
+    AdviceAgreement row;
+    row.garment_name = garment->name();
+    std::map<std::string, std::pair<double, int>> gaps;
+    core::FitScratch scratch;
+    Eigen::VectorXf fit;
+    for (size_t h = 0; h < holdouts.size(); ++h) {
+      std::vector<SizeJudgement> from_drape;
+      std::vector<SizeJudgement> from_fit;
+      for (size_t s = 0; s < sizes.size(); ++s) {
+        ASSIGN_OR_RETURN(core::Positions draped,
+                         workers::DrapeResultPositions(truth[s][h], vertex_count));
+        ASSIGN_OR_RETURN(SizeJudgement d,
+                         JudgeSize(advice, indices[s], real_bodies[h], draped));
+        RETURN_IF_ERROR(fitters[s].Fit(holdouts[h].weights, /*cleanup=*/true, scratch, fit)
+                            .status());
+        ASSIGN_OR_RETURN(SizeJudgement f,
+                         JudgeSize(advice, indices[s], weight_bodies[h], FromFlat(fit)));
+        for (const core::RegionFitValue& dv : d.regions) {
+          for (const core::RegionFitValue& fv : f.regions) {
+            if (fv.region != dv.region) continue;
+            auto& [sum, count] = gaps[std::string(core::FitRegionName(dv.region))];
+            sum += std::abs(fv.ease_cm - dv.ease_cm);
+            ++count;
+          }
+        }
+        from_drape.push_back(std::move(d));
+        from_fit.push_back(std::move(f));
+      }
+      const v1::SizeAdvice drape_advice = AssembleAdvice(advice, indices, from_drape, false);
+      const v1::SizeAdvice fit_advice = AssembleAdvice(advice, indices, from_fit, false);
+      auto position = [&](const std::string& name) {
+        return std::find(sizes.begin(), sizes.end(), name) - sizes.begin();
+      };
+      ++row.bodies;
+      ++row.drape_recommends[drape_advice.recommended_size()];
+      const auto apart = std::abs(position(drape_advice.recommended_size()) -
+                                  position(fit_advice.recommended_size()));
+      row.same_size += apart == 0;
+      row.within_one += apart <= 1;
+    }
+    for (const auto& [region, sum_count] : gaps) {
+      row.ease_gap_cm[region] = sum_count.first / sum_count.second;
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+std::string AdviceAgreementMarkdown(const std::vector<AdviceAgreement>& rows,
+                                    const std::vector<std::string>& sizes,
+                                    const AccuracyEvalSpec& spec) {
+  std::string md = absl::StrFormat(
+      "# Size advice: fast fit against drape\n\nSizes %s judged together, %d held-out `%s` "
+      "avatars (seed %d). The drape's advice judges each size draped on the body itself; the "
+      "fast fit's judges the linear fit with clean-up on the body of the weights, as the fit "
+      "service does. Ease gap: mean |fit - drape| of a region's ease, cm.\n\n"
+      "| garment | bodies | same size | within one size | drape recommends | ease gap bust | "
+      "waist | hip | thigh | upper arm | length | sleeve |\n"
+      "|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|\n",
+      absl::StrJoin(sizes, ","), spec.holdout_count,
+      spec.preset.empty() ? spec.avatar_basis->population().preset() : spec.preset,
+      spec.holdout_seed);
+  int bodies = 0;
+  int same = 0;
+  for (const AdviceAgreement& row : rows) {
+    std::vector<std::string> counts;
+    for (const std::string& size : sizes) {
+      const auto it = row.drape_recommends.find(size);
+      counts.push_back(absl::StrCat(size, " ", it == row.drape_recommends.end() ? 0 : it->second));
+    }
+    auto gap = [&](const char* region) {
+      const auto it = row.ease_gap_cm.find(region);
+      return it == row.ease_gap_cm.end() ? std::string("-")
+                                         : absl::StrFormat("%.1f", it->second);
+    };
+    absl::StrAppend(&md, absl::StrFormat(
+                             "| %s | %d | %.0f%% | %.0f%% | %s | %s | %s | %s | %s | %s | %s | "
+                             "%s |\n",
+                             row.garment_name, row.bodies, 100.0 * row.same_size / row.bodies,
+                             100.0 * row.within_one / row.bodies, absl::StrJoin(counts, ", "),
+                             gap("bust"), gap("waist"), gap("hip"), gap("thigh"),
+                             gap("upper_arm"), gap("garment_length"), gap("sleeve_length")));
+    bodies += row.bodies;
+    same += row.same_size;
+  }
+  absl::StrAppend(&md, absl::StrFormat("\nAll garments: the same size on %d of %d bodies "
+                                       "(%.0f%%).\n",
+                                       same, bodies, bodies ? 100.0 * same / bodies : 0.0));
+  return md;
 }
 
 namespace {

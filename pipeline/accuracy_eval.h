@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,27 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_
 
 // The report as a Markdown table per garment and overall.
 std::string AccuracyReportMarkdown(const v1::AccuracyReport& report);
+
+// Size advice from the fast fit against size advice from the drape. For each held-out body,
+// every size of every garment is draped onto the body itself and judged on that body (the
+// truth), and fitted from the body's weights (linear, with the clean-up) and judged on the
+// body of the weights, as the fit service does. spec.size is unused; `sizes` are judged
+// together (e.g. S, M, L, XL) and must be sizes of every garment.
+struct AdviceAgreement {
+  std::string garment_name;
+  int bodies = 0;
+  int same_size = 0;      // The fast fit recommends the drape's size.
+  int within_one = 0;     // ... or a neighbouring size.
+  std::map<std::string, int> drape_recommends;  // How often the drape recommends each size.
+  // Mean |ease from the fit - ease from the drape| per region over sizes and bodies, cm.
+  std::map<std::string, double> ease_gap_cm;
+};
+absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
+    const core::BodyModel& body_model, const AccuracyEvalSpec& spec,
+    const std::vector<std::string>& sizes);
+std::string AdviceAgreementMarkdown(const std::vector<AdviceAgreement>& rows,
+                                    const std::vector<std::string>& sizes,
+                                    const AccuracyEvalSpec& spec);
 
 }  // namespace fitbase::pipeline
 

@@ -10,6 +10,7 @@
 #include "core/file_util.h"
 #include "core/garment_obj.h"
 #include "core/mhclo_binding.h"
+#include "core/size_advice.h"
 #include "core/status_macros.h"
 #include "proto/avatar_params_codec.h"
 #include "proto/garment_codec.h"
@@ -126,6 +127,9 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
                                           const GarmentImportRequest& request) {
   // Checked before any parsing or fitting, so a bad request fails at once.
   if (request.sizes.empty()) return absl::InvalidArgumentError("a garment needs at least one size");
+  if (!request.garment_type.empty()) {
+    RETURN_IF_ERROR(core::ParseGarmentType(request.garment_type).status());
+  }
   for (const auto& [size, file] : request.size_meshes) {
     if (std::find(request.sizes.begin(), request.sizes.end(), size) == request.sizes.end()) {
       return absl::InvalidArgumentError(absl::StrCat("size mesh ", file.name, " is for size ",
@@ -175,6 +179,7 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
   garment.mutable_source()->set_sha256(SourceSha256(request));
   ASSIGN_OR_RETURN(std::string id, GarmentImportId(basis.id(), request));
   garment.set_id(std::move(id));
+  garment.set_garment_type(request.garment_type);
   for (const std::string& size : request.sizes) {
     v1::GarmentSize* s = garment.add_sizes();
     s->set_name(size);

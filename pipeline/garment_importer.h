@@ -30,6 +30,9 @@ struct GarmentImportRequest {
   std::optional<SourceFile> mhclo;  // A MakeHuman binding to the hm08 mesh (.mhclo).
   std::string name;                 // Default: the stem of the .mhclo's name, else the OBJ's.
   std::vector<std::string> sizes;   // Graded from the template; M is the template's size.
+  // The ease it is cut with, for size advice ("knit", "fitted", "shirt", "jacket"; empty is
+  // "shirt"). Not part of the garment's id: it changes no drape.
+  std::string garment_type;
   // Retailer-supplied rest meshes by size name (same topology as the garment), meters; every
   // one for a size in `sizes`.
   std::map<std::string, SourceFile> size_meshes;

@@ -34,8 +34,9 @@ class ClothingCliTest : public ::testing::Test {
               0);
     const fs::path mhclo =
         core::TestDataDir() / "clothes" / kGarment / (std::string(kGarment) + ".mhclo");
-    const Result import = RunFitbase({"garment", "import", "--mhclo", mhclo.string(), "--basis",
-                                      Path("b.fbb"), "--sizes", "M,XL", "--out", Path("g.fbg")});
+    const Result import =
+        RunFitbase({"garment", "import", "--mhclo", mhclo.string(), "--basis", Path("b.fbb"),
+                    "--sizes", "M,XL", "--type", "knit", "--out", Path("g.fbg")});
     ASSERT_EQ(import.exit_code, 0) << import.err;
     const Result build = Build("quadratic", "q.fbc");
     ASSERT_EQ(build.exit_code, 0) << build.err;
@@ -211,6 +212,35 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
   const Result bad = RunFitbase({"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
                                  "--methods", "linear,magic", "--out", Path("eval2")});
   EXPECT_THAT(bad.err, HasSubstr("unknown clothing method 'magic'"));
+}
+
+TEST_F(ClothingCliTest, EvalAdviceComparesTheFastFitsSizeWithTheDrapes) {
+  v1::Garment garment;
+  ASSERT_TRUE(proto::ReadMessageFile(Path("g.fbg"), &garment).ok());
+  EXPECT_EQ(garment.garment_type(), "knit");  // As imported with --type.
+  const Result r = RunFitbase({"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
+                               "--advice", "M,XL", "--holdout", "2", "--seed", "9",
+                               "--homotopy-steps", "2", "--relax-steps", "2", "--out",
+                               Path("advice")});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string md = *core::ReadFileToString(Path("advice/advice.md"));
+  EXPECT_THAT(md, HasSubstr("| female_sportsuit01 | 2 |"));
+  EXPECT_THAT(md, ::testing::ContainsRegex("All garments: the same size on [0-2] of 2 bodies"));
+
+  const Result one = RunFitbase({"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
+                                 "--advice", "M", "--out", Path("advice2")});
+  EXPECT_THAT(one.err, HasSubstr("advice needs at least 2 sizes"));
+  const Result unknown = RunFitbase({"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
+                                     "--advice", "M,XXL", "--holdout", "1", "--homotopy-steps",
+                                     "2", "--relax-steps", "2", "--out", Path("advice3")});
+  EXPECT_THAT(unknown.err, HasSubstr("XXL"));
+  const Result type = RunFitbase({"garment", "import", "--mhclo",
+                                  (core::TestDataDir() / "clothes/female_sportsuit01/"
+                                                         "female_sportsuit01.mhclo")
+                                      .string(),
+                                  "--basis", Path("b.fbb"), "--type", "tuxedo", "--out",
+                                  Path("t.fbg")});
+  EXPECT_THAT(type.err, HasSubstr("unknown garment type 'tuxedo'"));
 }
 
 }  // namespace

@@ -500,6 +500,29 @@ TEST_F(FitServiceTest, BadMeasurementsAreInvalidArgumentNamingTheField) {
             grpc::StatusCode::PERMISSION_DENIED);
 }
 
+TEST_F(FitServiceTest, CustomerAdviseSaysWhichSizeToBuy) {
+  const v1::AvatarProjection projection = Project(2);
+  const std::filesystem::path key = dir_ / "customer.key";
+  ASSERT_TRUE(core::WriteFileAtomically(key, absl::StrCat(TestKeys::kCustomer, "\n")).ok());
+  ASSERT_TRUE(core::WriteFileAtomically(dir_ / "w.json", proto::ToJson(projection.weights())).ok());
+  const std::string server = absl::StrCat("127.0.0.1:", fit_->port());
+  const Result run = RunFitbase({"customer", "advise", "--server", server, "--api-key-file",
+                                 key.string(), "--weights", (dir_ / "w.json").string(),
+                                 "--garment", garment_.id(), "--out",
+                                 (dir_ / "advice.json").string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_THAT(run.out, HasSubstr("We recommend M"));
+  EXPECT_THAT(run.out, HasSubstr("bust"));
+  v1::SizeAdvice advice;
+  ASSERT_TRUE(proto::ParseJson(*core::ReadFileToString(dir_ / "advice.json"), &advice).ok());
+  EXPECT_EQ(advice.sizes(0).ease_mm_size(), garment_.template_mesh().vertex_count());
+  const Result bad = RunFitbase({"customer", "advise", "--server", server, "--api-key-file",
+                                 key.string(), "--weights", (dir_ / "w.json").string(),
+                                 "--garment", "no-such-garment"});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_THAT(bad.err, HasSubstr("no-such-garment"));
+}
+
 TEST_F(FitServiceTest, CustomerFromMeasurementsWritesTheAvatarAndItsWeights) {
   const v1::TypedMeasurements given = MeasurementsOf(2);
   const std::filesystem::path key = dir_ / "customer.key";

@@ -54,6 +54,7 @@ absl::StatusOr<v1::UploadGarmentResponse> Upload(storage::AssetStore& store,
                               .mhclo = std::nullopt,
                               .name = request.name(),
                               .sizes = {request.sizes().begin(), request.sizes().end()},
+                              .garment_type = request.garment_type(),
                               .size_meshes = {}};
   if (request.has_mhclo()) import.mhclo = ToSourceFile(request.mhclo());
   for (const auto& [size, file] : request.size_meshes()) {
