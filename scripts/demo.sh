@@ -69,6 +69,8 @@ read -r _ page <&3
 echo "== stack: coordinator $coordinator, fit service $fit, page $page (logs: $out/serve.log)"
 
 declare -A garment_of=([women]=female_casualsuit01 [men]=male_casualsuit02)
+# For size advice: a jersey T-shirt over leggings, and a woven shirt over trousers.
+declare -A type_of=([women]=knit [men]=shirt)
 declare -A garment_id build_id
 export FITBASE_API_KEY=$admin_key
 for preset in women men; do
@@ -77,7 +79,8 @@ for preset in women men; do
     --basis "$out/$preset/avatars.fbb"
   basis_id=$("$fitbase" basis info "$out/$preset/avatars.fbb" | awk '/^id/{print $2}')
   garment_id[$preset]=$("$fitbase" garment upload --coordinator "$coordinator" \
-    --mhclo "data/makehuman/clothes/$g/$g.mhclo" --basis-id "$basis_id" --sizes M,XL |
+    --mhclo "data/makehuman/clothes/$g/$g.mhclo" --basis-id "$basis_id" --sizes M,XL \
+    --type "${type_of[$preset]}" |
     tee -a "$out/catalogue.txt" | awk '/^garment/{print $2}')
   build_id[$preset]=$("$fitbase" build submit --coordinator "$coordinator" \
     --garment "${garment_id[$preset]}" --sizes M,XL --methods linear | awk '{print $1; exit}')

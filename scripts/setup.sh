@@ -21,8 +21,10 @@ packages=(
   protobuf-compiler libprotobuf-dev protobuf-compiler-grpc libgrpc++-dev libabsl-dev libssl-dev
   libeigen3-dev librocksdb-dev libdraco-dev libopenmesh-dev libcli11-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev libsuitesparse-dev libopenblas0-pthread
-  libcpp-httplib-dev clang-16 libclang-rt-16-dev chromium
+  libcpp-httplib-dev clang-16 libclang-rt-16-dev
 )
+# The page's browser tests drive Debian's chromium; an image build (--packages-only) runs none.
+$packages_only || packages+=(chromium)
 # The page's packages come from npm (web/package-lock.json); Debian's Node.js only where the
 # machine has none of its own (a Node.js from elsewhere ships its own npm).
 command -v npm > /dev/null || packages+=(nodejs npm)
