@@ -38,11 +38,11 @@ absl::Status CheckAlive(const grpc::CallbackServerContext& context) {
   return absl::OkStatus();
 }
 
-// One garment size fitted to the weights.
+// One garment size fitted to the weights; its positions (3V, xyz interleaved, m) go to the
+// caller's buffer, which a hot path keeps per thread so that a fit allocates nothing.
 struct SizeFitted {
   std::shared_ptr<const ServedClothing> clothing;
   std::string method;
-  Eigen::VectorXf positions;  // 3V, xyz interleaved, m.
   int64_t pushed = 0;
   absl::Duration compute;
 };
@@ -51,7 +51,8 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
                                         const v1::AvatarWeights& weights,
                                         const ServedGarment& garment,
                                         absl::string_view garment_id, absl::string_view size,
-                                        absl::string_view method_name, bool cleanup) {
+                                        absl::string_view method_name, bool cleanup,
+                                        Eigen::VectorXf& positions) {
   SizeFitted out;
   out.method = method_name.empty() ? "linear" : std::string(method_name);
   RETURN_IF_ERROR(core::ParseClothingMethod(out.method).status());
@@ -85,7 +86,7 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
   }
   thread_local core::FitScratch scratch;
   const absl::Time start = absl::Now();
-  ASSIGN_OR_RETURN(out.pushed, out.clothing->fitter.Fit(w, cleanup, scratch, out.positions));
+  ASSIGN_OR_RETURN(out.pushed, out.clothing->fitter.Fit(w, cleanup, scratch, positions));
   out.compute = absl::Now() - start;
   return out;
 }
@@ -98,11 +99,11 @@ absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view 
                                          absl::string_view method_name,
                                          v1::PositionsEncoding encoding, bool with_metrics,
                                          bool cleanup) {
+  thread_local Eigen::VectorXf positions;
   ASSIGN_OR_RETURN(SizeFitted one, FitPositions(catalog, tenant, weights, garment, garment_id,
-                                                size, method_name, cleanup));
+                                                size, method_name, cleanup, positions));
   const std::shared_ptr<const ServedClothing>& clothing = one.clothing;
   const std::string& method = one.method;
-  const Eigen::VectorXf& positions = one.positions;
   const int64_t pushed = one.pushed;
   const absl::Duration compute = one.compute;
 
@@ -436,21 +437,21 @@ grpc::ServerUnaryReactor* FitService::AdviseSize(grpc::CallbackServerContext* co
     std::vector<int> judged_sizes;
     std::vector<pipeline::SizeJudgement> judged;
     Eigen::VectorXd reach;
+    Eigen::VectorXf flat;
     for (int size : sizes) {
       RETURN_IF_ERROR(CheckAlive(*context));
       absl::StatusOr<SizeFitted> fitted =
           FitPositions(*catalog_, principal.tenant, request->weights(), *garment,
                        request->garment_id(), advice.size_names[size], request->method(),
-                       /*cleanup=*/true);
+                       /*cleanup=*/true, flat);
       // Every size: only those with a published clothing basis.
       if (request->sizes().empty() && absl::IsNotFound(fitted.status())) continue;
       if (!fitted.ok()) return fitted.status();
       reach = fitted->clothing->example_reach;
-      const core::Positions positions = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3,
-                                                                       Eigen::RowMajor>>(
-                                            fitted->positions.data(),
-                                            fitted->positions.size() / 3, 3)
-                                            .cast<double>();
+      const core::Positions positions =
+          Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+              flat.data(), flat.size() / 3, 3)
+              .cast<double>();
       ASSIGN_OR_RETURN(pipeline::SizeJudgement one,
                        pipeline::JudgeSize(advice, size, body, positions));
       judged_sizes.push_back(size);
