@@ -123,6 +123,44 @@ TEST_F(HttpApiTest, AKnownKeyOfAnEmptyShopListsNoGarments) {
   EXPECT_EQ(list->body, "{\"garments\":[]}");
 }
 
+TEST_F(HttpApiTest, ServesHttpsWithTheServersCertificate) {
+  const std::filesystem::path tls = std::filesystem::path(FITBASE_SOURCE_DIR) / "tests/testdata/tls";
+  http::HttpServerOptions options;
+  options.listen = "127.0.0.1:0";
+  options.web_root = core::ProcessTempDir() / "http/web";
+  options.channel = fit_->InProcessChannel();
+  options.tls_cert = tls / "server.pem";
+  options.tls_key = tls / "server.key";
+  auto https = http::HttpServer::Start(std::move(options));
+  ASSERT_TRUE(https.ok()) << https.status();
+  httplib::SSLClient client("127.0.0.1", (*https)->port());
+  client.set_ca_cert_path((tls / "ca.pem").c_str());
+  // The test certificate names the coordinator's host, not 127.0.0.1: the chain is what is
+  // checked here, so host name checking is left to the CA test of the gRPC servers.
+  client.enable_server_certificate_verification(false);
+  auto list = client.Get("/api/v1/garments", Key());
+  ASSERT_TRUE(list) << httplib::to_string(list.error());
+  EXPECT_EQ(list->status, 200);
+  EXPECT_TRUE(list->body.starts_with("{\"garments\""));
+  // Plain HTTP to the HTTPS port gets no answer.
+  httplib::Client plain("127.0.0.1", (*https)->port());
+  plain.set_read_timeout(5, 0);
+  const httplib::Result answer = plain.Get("/healthz");
+  EXPECT_FALSE(answer && answer->status == 200);
+  (*https)->Shutdown();
+
+  http::HttpServerOptions bad;
+  bad.listen = "127.0.0.1:0";
+  bad.web_root = core::ProcessTempDir() / "http/web";
+  bad.channel = fit_->InProcessChannel();
+  bad.tls_cert = tls / "server.pem";
+  EXPECT_THAT(http::HttpServer::Start(bad).status(),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "both a certificate and a key"));
+  bad.tls_key = tls / "intruder.key";  // Not the certificate's key.
+  EXPECT_THAT(http::HttpServer::Start(bad).status(),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "HTTPS cannot start"));
+}
+
 TEST(HttpServerStartTest, RefusesAFolderWithoutThePageOrAnUnparsableAddress) {
   http::HttpServerOptions options;
   options.channel = grpc::CreateChannel("127.0.0.1:1", grpc::InsecureChannelCredentials());
