@@ -125,6 +125,16 @@ for role in customer ingestion admin worker; do
 done
 { echo "# fitbase API keys"; echo; cat "$dir/keys"; } > "$dir/commented"
 
+# The HTTP API's bodies: the first byte picks the endpoint (fuzz/http_body_fuzzer.cc): 0 the
+# try-on JSON, 1 typed measurements, 2 an OBJ upload, 3 an .fba upload.
+dir=$(seed_dir http_body)
+printf '\000{"garment_id": "g", "method": "linear", "weights": {"basis_id": "b", "weights": [0.01, -0.02]}}' \
+  > "$dir/tryon"
+printf '\001{"population": "women", "measurements": {"stature_cm": 168, "weight_kg": 65}}' \
+  > "$dir/measurements"
+for f in "$partial"/body_obj/*; do { printf '\002'; cat "$f"; } > "$dir/obj-$(basename "$f")"; done
+for f in "$partial"/avatar/*; do { printf '\003'; cat "$f"; } > "$dir/fba-$(basename "$f")"; done
+
 rm -rf "$work"
 rm -rf "$out"
 mv "$partial" "$out"

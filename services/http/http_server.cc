@@ -3,13 +3,11 @@
 #include <chrono>
 #include <utility>
 
-#include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "fitbase/v1/fit_service.grpc.pb.h"
 #include "google/protobuf/util/json_util.h"
-#include "pipeline/avatar_file.h"
-#include "proto/avatar_codec.h"
+#include "services/http/http_body.h"
 #include "services/rpc/call_auth.h"
 // Last: it includes <resolv.h>, whose `_res` macro breaks Eigen's headers included after it.
 #include "httplib.h"
@@ -120,15 +118,9 @@ void SendMessage(httplib::Response& res, const google::protobuf::Message& messag
 // Parses a JSON request body into `message`; false (and the 400 sent) when it does not parse.
 bool ParseBody(const httplib::Request& req, httplib::Response& res,
                google::protobuf::Message* message) {
-  google::protobuf::util::JsonParseOptions options;
-  const auto status = google::protobuf::util::JsonStringToMessage(req.body, message, options);
-  if (!status.ok()) {
-    SendError(res, 400, "INVALID_ARGUMENT",
-              absl::StrCat("the request body is not a valid ", message->GetDescriptor()->name(),
-                           " in JSON: ", status.message().as_string()));
-    return false;
-  }
-  return true;
+  const absl::Status status = ParseJsonBody(req.body, message);
+  if (!status.ok()) SendError(res, 400, "INVALID_ARGUMENT", std::string(status.message()));
+  return status.ok();
 }
 
 std::unique_ptr<grpc::ClientContext> CallFor(const httplib::Request& req) {
@@ -136,22 +128,6 @@ std::unique_ptr<grpc::ClientContext> CallFor(const httplib::Request& req) {
   context->set_deadline(std::chrono::system_clock::now() + kCallDeadline);
   rpc::AddApiKey(*context, req.get_header_value("X-Api-Key"));
   return context;
-}
-
-// An uploaded body: an OBJ's text, or an Avatar message (.fba) sent as octet-stream.
-absl::StatusOr<v1::Avatar> UploadedAvatar(const httplib::Request& req) {
-  const std::string type = req.get_header_value("Content-Type");
-  if (absl::StartsWith(type, "application/octet-stream")) {
-    v1::Avatar avatar;
-    if (!avatar.ParseFromString(req.body)) {
-      return absl::InvalidArgumentError(
-          "the upload is not an avatar file (.fba): its bytes do not parse as fitbase.v1.Avatar");
-    }
-    return avatar;
-  }
-  absl::StatusOr<core::Mesh> mesh = pipeline::ParseAvatarObj(req.body, "the uploaded OBJ");
-  if (!mesh.ok()) return mesh.status();
-  return proto::AvatarFromPositions(mesh->positions, /*draco=*/false);
 }
 
 void AddRoutes(httplib::Server& server, const HttpServerOptions& options) {
@@ -188,7 +164,8 @@ void AddRoutes(httplib::Server& server, const HttpServerOptions& options) {
     v1::ProjectAvatarRequest request;
     request.set_population(req.get_param_value("population"));
     request.set_with_body(true);
-    absl::StatusOr<v1::Avatar> avatar = UploadedAvatar(req);
+    absl::StatusOr<v1::Avatar> avatar =
+        ParseUploadedAvatar(req.body, req.get_header_value("Content-Type"));
     if (!avatar.ok()) {
       SendError(res, 400, "INVALID_ARGUMENT", std::string(avatar.status().message()));
       return;
