@@ -22,19 +22,25 @@ scripts/setup.sh
 mkdir -p "$build"
 cmake --preset fuzz > "$build/configure.log" 2>&1 || { cat "$build/configure.log"; exit 1; }
 nice -n 10 cmake --build --preset fuzz
-[ -d "$build/seeds" ] || nice -n 10 fuzz/make_corpus.sh "$build"
 
 # Inputs stay near the size of the real files they come from; larger ones only slow the run.
 max_len() {
   case "$1" in
     avatar_basis_fuzzer|garment_fuzzer|drape_task_spec_fuzzer) echo 1500000 ;;
-    avatar_fuzzer|clothing_basis_fuzzer|drape_result_fuzzer) echo 400000 ;;
+    avatar_fuzzer|clothing_basis_fuzzer|drape_result_fuzzer|http_body_fuzzer) echo 400000 ;;
     draco_positions_fuzzer|body_obj_fuzzer|garment_obj_fuzzer|mhclo_fuzzer) echo 65536 ;;
     *) echo 16384 ;;
   esac
 }
 
 mapfile -t fuzzers < "$build/fuzz/fuzzers.txt"
+# The seeds are made once, and again when a fuzzer has none yet (one added since).
+for fuzzer in "${fuzzers[@]}"; do
+  if [ ! -d "$build/seeds/${fuzzer%_fuzzer}" ]; then
+    nice -n 10 fuzz/make_corpus.sh "$build"
+    break
+  fi
+done
 if [ -n "$only" ]; then
   name=${only%_fuzzer}_fuzzer
   printf '%s\n' "${fuzzers[@]}" | grep -qx "$name" || {
