@@ -248,24 +248,43 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
   return absl::OkStatus();
 }
 
+// What both evaluations start from: the avatar basis loaded, its triangles, and the preset
+// the held-out avatars are drawn from (the spec's, else the basis's own).
+struct EvalBasis {
+  LoadedAvatarBasis basis;
+  core::Triangles triangles;
+  std::string preset_name;
+  core::PopulationPreset preset;
+};
+
+absl::StatusOr<EvalBasis> LoadEvalBasis(const AccuracyEvalSpec& spec) {
+  EvalBasis out;
+  const v1::AvatarBasis& basis_message = *spec.avatar_basis;
+  out.preset_name = spec.preset.empty() ? basis_message.population().preset() : spec.preset;
+  if (out.preset_name.empty()) {
+    return absl::InvalidArgumentError(
+        "the avatar basis has no population preset; name the held-out avatars' preset");
+  }
+  ASSIGN_OR_RETURN(out.preset, core::ParsePopulationPreset(out.preset_name));
+  out.basis = {basis_message, {}};
+  ASSIGN_OR_RETURN(out.basis.pca, proto::PcaBasisFromProto(basis_message));
+  ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis_message.mean()));
+  out.triangles = core::Triangulate(mean.faces);
+  return out;
+}
+
 }  // namespace
 
 absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_model,
                                                     const AccuracyEvalSpec& spec) {
   RETURN_IF_ERROR(CheckMethods(spec.methods));
   if (spec.holdout_count < 1) return absl::InvalidArgumentError("need at least 1 held-out avatar");
+  ASSIGN_OR_RETURN(EvalBasis loaded, LoadEvalBasis(spec));
   const v1::AvatarBasis& basis_message = *spec.avatar_basis;
-  const std::string preset_name =
-      spec.preset.empty() ? basis_message.population().preset() : spec.preset;
-  if (preset_name.empty()) {
-    return absl::InvalidArgumentError(
-        "the avatar basis has no population preset; name the held-out avatars' preset");
-  }
-  ASSIGN_OR_RETURN(core::PopulationPreset preset, core::ParsePopulationPreset(preset_name));
-  LoadedAvatarBasis basis{basis_message, {}};
-  ASSIGN_OR_RETURN(basis.pca, proto::PcaBasisFromProto(basis_message));
-  ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis_message.mean()));
-  const core::Triangles triangles = core::Triangulate(mean.faces);
+  const LoadedAvatarBasis& basis = loaded.basis;
+  const core::Triangles& triangles = loaded.triangles;
+  const std::string& preset_name = loaded.preset_name;
+  const core::PopulationPreset preset = loaded.preset;
 
   v1::AccuracyReport report;
   report.set_avatar_basis_id(basis_message.id());
@@ -349,18 +368,11 @@ absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
     const std::vector<std::string>& sizes) {
   if (spec.holdout_count < 1) return absl::InvalidArgumentError("need at least 1 held-out avatar");
   if (sizes.size() < 2) return absl::InvalidArgumentError("advice needs at least 2 sizes");
+  ASSIGN_OR_RETURN(EvalBasis loaded, LoadEvalBasis(spec));
   const v1::AvatarBasis& basis_message = *spec.avatar_basis;
-  const std::string preset_name =
-      spec.preset.empty() ? basis_message.population().preset() : spec.preset;
-  if (preset_name.empty()) {
-    return absl::InvalidArgumentError(
-        "the avatar basis has no population preset; name the held-out avatars' preset");
-  }
-  ASSIGN_OR_RETURN(core::PopulationPreset preset, core::ParsePopulationPreset(preset_name));
-  LoadedAvatarBasis basis{basis_message, {}};
-  ASSIGN_OR_RETURN(basis.pca, proto::PcaBasisFromProto(basis_message));
-  ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis_message.mean()));
-  const core::Triangles triangles = core::Triangulate(mean.faces);
+  const LoadedAvatarBasis& basis = loaded.basis;
+  const core::Triangles& triangles = loaded.triangles;
+  const core::PopulationPreset preset = loaded.preset;
   double avatar_error = 0;
   ASSIGN_OR_RETURN(std::vector<Holdout> holdouts,
                    MakeHoldouts(body_model, basis, triangles, spec, preset, &avatar_error));
