@@ -3,6 +3,7 @@
 #include <chrono>
 #include <utility>
 
+#include "absl/status/status.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "fitbase/v1/fit_service.grpc.pb.h"
@@ -52,17 +53,6 @@ int HttpStatusOf(grpc::StatusCode code) {
   }
 }
 
-std::string CodeName(grpc::StatusCode code) {
-  static constexpr const char* kNames[] = {
-      "OK",           "CANCELLED",         "UNKNOWN",         "INVALID_ARGUMENT",
-      "DEADLINE_EXCEEDED", "NOT_FOUND",    "ALREADY_EXISTS",  "PERMISSION_DENIED",
-      "RESOURCE_EXHAUSTED", "FAILED_PRECONDITION", "ABORTED", "OUT_OF_RANGE",
-      "UNIMPLEMENTED", "INTERNAL",         "UNAVAILABLE",     "DATA_LOSS",
-      "UNAUTHENTICATED"};
-  const int i = static_cast<int>(code);
-  return i >= 0 && i < 17 ? kNames[i] : "UNKNOWN";
-}
-
 std::string Quoted(const std::string& text) {
   std::string out = "\"";
   for (const char c : text) {
@@ -96,7 +86,9 @@ void SendError(httplib::Response& res, int status, const std::string& code,
 }
 
 void SendGrpcError(httplib::Response& res, const grpc::Status& status) {
-  SendError(res, HttpStatusOf(status.error_code()), CodeName(status.error_code()),
+  // gRPC's codes are absl's, number for number.
+  SendError(res, HttpStatusOf(status.error_code()),
+            absl::StatusCodeToString(static_cast<absl::StatusCode>(status.error_code())),
             status.error_message());
 }
 
