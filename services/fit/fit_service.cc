@@ -38,6 +38,25 @@ absl::Status CheckAlive(const grpc::CallbackServerContext& context) {
   return absl::OkStatus();
 }
 
+// The weights as numbers, checked: `components` of them (the count of avatar basis
+// `basis_id`), all finite. INVALID_ARGUMENT naming the problem otherwise.
+absl::StatusOr<Eigen::VectorXd> CheckedWeights(const v1::AvatarWeights& weights,
+                                               int64_t components, absl::string_view basis_id) {
+  if (weights.weights_size() != components) {
+    return absl::InvalidArgumentError(absl::StrCat("the weights have ", weights.weights_size(),
+                                                   " components; avatar basis ", basis_id,
+                                                   " has ", components));
+  }
+  Eigen::VectorXd w(components);
+  for (int k = 0; k < components; ++k) {
+    if (!std::isfinite(weights.weights(k))) {
+      return absl::InvalidArgumentError(absl::StrCat("weight ", k, " is not finite"));
+    }
+    w(k) = weights.weights(k);
+  }
+  return w;
+}
+
 // One garment size fitted to the weights; its positions (3V, xyz interleaved, m) go to the
 // caller's buffer, which a hot path keeps per thread so that a fit allocates nothing.
 struct SizeFitted {
@@ -71,19 +90,10 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
   }
   if (!found.ok()) return found.status();
   out.clothing = *std::move(found);
-  const int components = out.clothing->fitter.model().component_count;
-  if (weights.weights_size() != components) {
-    return absl::InvalidArgumentError(absl::StrCat("the weights have ", weights.weights_size(),
-                                                   " components; avatar basis ",
-                                                   weights.basis_id(), " has ", components));
-  }
-  Eigen::VectorXf w(components);
-  for (int k = 0; k < components; ++k) {
-    if (!std::isfinite(weights.weights(k))) {
-      return absl::InvalidArgumentError(absl::StrCat("weight ", k, " is not finite"));
-    }
-    w(k) = static_cast<float>(weights.weights(k));
-  }
+  ASSIGN_OR_RETURN(const Eigen::VectorXd checked,
+                   CheckedWeights(weights, out.clothing->fitter.model().component_count,
+                                  weights.basis_id()));
+  const Eigen::VectorXf w = checked.cast<float>();
   thread_local core::FitScratch scratch;
   const absl::Time start = absl::Now();
   ASSIGN_OR_RETURN(out.pushed, out.clothing->fitter.Fit(w, cleanup, scratch, positions));
@@ -154,19 +164,8 @@ absl::StatusOr<std::shared_ptr<const ServedGarment>> GarmentForWeights(
 // mean + components x weights, as 13,380 x 3 positions (m).
 absl::StatusOr<core::Positions> BodyPositions(const pipeline::LoadedAvatarBasis& basis,
                                               const v1::AvatarWeights& weights) {
-  if (weights.weights_size() != basis.pca.variances.size()) {
-    return absl::InvalidArgumentError(absl::StrCat("the weights have ", weights.weights_size(),
-                                                   " components; avatar basis ",
-                                                   basis.message.id(), " has ",
-                                                   basis.pca.variances.size()));
-  }
-  Eigen::VectorXd w(weights.weights_size());
-  for (int k = 0; k < weights.weights_size(); ++k) {
-    if (!std::isfinite(weights.weights(k))) {
-      return absl::InvalidArgumentError(absl::StrCat("weight ", k, " is not finite"));
-    }
-    w(k) = weights.weights(k);
-  }
+  ASSIGN_OR_RETURN(const Eigen::VectorXd w,
+                   CheckedWeights(weights, basis.pca.variances.size(), basis.message.id()));
   const Eigen::VectorXd flat = core::ReconstructFromWeights(basis.pca, w);
   return core::Positions(
       Eigen::Map<const core::Positions>(flat.data(), flat.size() / 3, 3));
