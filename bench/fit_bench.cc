@@ -7,7 +7,12 @@
 //     `of_bandwidth` is the fit's byte rate over the streaming-read rate;
 //   - BM_FitBatch64/N/V: 64 customers as one matrix product; `of_sgemm` is its FLOP rate
 //     over the SGEMM rate;
-//   - BM_FitCleanup/N/V: a fit plus the collision clean-up (ClothingFitter);
+//   - BM_FitKernel/N/V: the kernel model (N terms, 2N + 1 + 400 training bodies, 32 outputs);
+//   - BM_FitCleanup/N/V/R: a fit plus the collision clean-up (ClothingFitter): vertex anchors
+//     only, as bases before guards had (R = 0), or with a guard per body vertex under the
+//     garment and R rounds of smoothing over a grid garment's edges (the default is
+//     core::kSmoothingIterations); counter `moved` is the share of vertices the clean-up moved
+//     (random geometry moves every vertex, the most work a fit can take);
 //   - BM_ProjectAvatar/N: a 13,380-vertex avatar projected onto N components.
 // Usage: fitbase_fit_bench [--benchmark_filter=...]
 #include <random>
@@ -127,8 +132,33 @@ void BM_FitBatch64(benchmark::State& state) {
       benchmark::Counter(kBatch * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 
+// The kernel model at its largest default: N linear terms, M = 2N + 1 + 400 training bodies
+// (400 sampled drapes) and C = 32 outputs. Its share of the bandwidth counts the mean, the
+// terms and the outputs read once, and the centers and coefficients.
+void BM_FitKernel(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
+  constexpr int kOutputs = 32;
+  const int centers = 2 * n + 1 + 400;
+  core::ClothingModel model = MakeModel(n, v);
+  model.method = core::ClothingMethod::kKernel;
+  model.basis.conservativeResize(Eigen::NoChange, 1 + n + kOutputs);
+  model.basis.rightCols(kOutputs).setRandom();
+  model.kernel.length_scale = 3.0f;
+  model.kernel.input_scale = Eigen::VectorXf::Constant(n, 50.0f);
+  model.kernel.centers = Eigen::MatrixXf::Random(n, centers);
+  model.kernel.coefficients = Eigen::MatrixXf::Random(kOutputs, centers) * 0.01f;
+  const Eigen::VectorXf w = Weights(n);
+  Eigen::VectorXf features, out;
+  for (auto _ : state) {
+    core::FitClothing(model, w, features, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  SetShareOfBandwidth(state, FitBytes(n + kOutputs, v) + 4.0 * centers * (n + kOutputs));
+}
+
 void BM_FitCleanup(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
+  const int rounds = static_cast<int>(state.range(2));
   std::mt19937 rng(2);
   core::BodyCorrespondence c;
   c.offset = 0.0025;
@@ -143,13 +173,37 @@ void BM_FitCleanup(benchmark::State& state) {
         static_cast<int32_t>(rng() % u);
     c.barycentric.row(i) << 0.2f, 0.3f, 0.5f;
   }
+  if (rounds > 0) {
+    // The garment as a grid of triangles, 100 vertices a row; one guard per body vertex, on
+    // the grid's triangles in turn.
+    const int columns = 100;
+    core::Triangles grid(2 * (v / columns - 1) * (columns - 1), 3);
+    Eigen::Index t = 0;
+    for (int row = 0; row + 1 < v / columns; ++row) {
+      for (int col = 0; col + 1 < columns; ++col) {
+        const int a = row * columns + col;
+        grid.row(t++) << a, a + 1, a + columns;
+        grid.row(t++) << a + 1, a + columns + 1, a + columns;
+      }
+    }
+    c.guard_triangles.resize(u, 3);
+    for (int i = 0; i < u; ++i) {
+      c.guard_body.push_back(i);
+      c.guard_triangles.row(i) = grid.row(i % grid.rows());
+    }
+    c.smoothing_iterations = rounds;
+    if (!core::SetGarmentNeighbors(grid, c).ok()) state.SkipWithError("bad grid");
+  }
   const core::ClothingFitter fitter = *core::ClothingFitter::Create(MakeModel(n, v), c);
   const Eigen::VectorXf w = Weights(n);
   core::FitScratch scratch;
   Eigen::VectorXf out;
+  int64_t moved = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(fitter.Fit(w, true, scratch, out));
+    moved = *fitter.Fit(w, true, scratch, out);
+    benchmark::DoNotOptimize(out.data());
   }
+  state.counters["moved"] = static_cast<double>(moved) / v;
 }
 
 void BM_ProjectAvatar(benchmark::State& state) {
@@ -191,7 +245,14 @@ BENCHMARK(BM_Sgemm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FitTermMajor)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitVertexMajor)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitBatch64)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_FitCleanup)->Args({30, 8000})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FitKernel)->Args({20, 2000})->Args({20, 8000})->Args({30, 8000})
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FitCleanup)
+    ->Args({30, 2000, 0})
+    ->Args({30, 2000, core::kSmoothingIterations})
+    ->Args({30, 8000, 0})
+    ->Args({30, 8000, core::kSmoothingIterations})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ProjectAvatar)->Arg(10)->Arg(30)->Arg(60)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -23,6 +23,8 @@ struct BuildFlags {
   std::string methods = "linear";
   std::string basis_id;
   double scale = 0;
+  uint32_t samples = 0;
+  uint64_t sample_seed = 0;
   workers::DrapeSchedule schedule;
   bool watch = false;
   double watch_seconds = 24 * 3600;
@@ -86,6 +88,8 @@ absl::Status RunSubmit(const BuildFlags& flags) {
   }
   build.set_avatar_basis_id(flags.basis_id);
   build.set_example_scale(flags.scale);
+  build.set_sampled_drapes(flags.samples);
+  build.set_sample_seed(flags.sample_seed);
   build.set_homotopy_steps(static_cast<uint32_t>(flags.schedule.homotopy_steps));
   build.set_relax_steps(static_cast<uint32_t>(flags.schedule.relax_steps));
   ASSIGN_OR_RETURN(std::unique_ptr<grpc::ClientContext> context,
@@ -149,7 +153,10 @@ void AddBuildCommands(CLI::App& app, CliContext& context) {
       ->required();
   submit->add_option("--sizes", flags->sizes, "Comma-separated sizes (default M)");
   submit->add_option("--methods", flags->methods,
-                     "Comma-separated: paper, linear, quadratic (default linear)");
+                     "Comma-separated: paper, linear, quadratic, kernel (default linear)");
+  submit->add_option("--samples", flags->samples,
+                     "Bodies sampled from the population and draped per size, for kernel");
+  submit->add_option("--sample-seed", flags->sample_seed, "Seed of the sampled bodies (default 1)");
   submit->add_option("--basis-id", flags->basis_id,
                      "Avatar basis id (default: the one the garment was imported on)");
   submit->add_option("--scale", flags->scale, "Example scale s (default 1)");

@@ -25,6 +25,8 @@ struct ClothingFlags {
   std::string size = "M";
   std::string method = "linear";
   double scale = 1.0;
+  int samples = 0;
+  uint64_t sample_seed = 1;
   int jobs = 2;
   std::string cache;
   workers::DrapeSchedule schedule;
@@ -37,24 +39,43 @@ absl::Status RunClothingBuild(const ClothingFlags& flags) {
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.basis, &basis));
   v1::Garment garment;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.garment, &garment));
-  pipeline::ClothingBuildSpec spec{.avatar_basis = &basis, .garment = &garment, .size = flags.size,
-                         .example_scale = flags.scale, .settings = {}, .schedule = flags.schedule};
+  if (method == core::ClothingMethod::kKernel && flags.samples == 0) {
+    return absl::InvalidArgumentError("--method kernel learns from sampled drapes; give --samples");
+  }
+  pipeline::ClothingBuildSpec spec{
+      .avatar_basis = &basis,
+      .garment = &garment,
+      .size = flags.size,
+      .example_scale = flags.scale,
+      .sampled_drapes = method == core::ClothingMethod::kKernel ? flags.samples : 0,
+      .sample_seed = flags.sample_seed,
+      .settings = {},
+      .schedule = flags.schedule};
   ASSIGN_OR_RETURN(pipeline::ClothingPlan plan, pipeline::PlanClothingBasis(spec));
   std::vector<const workers::DrapeTask*> tasks;
   for (const workers::DrapeTask& task : plan.tasks) tasks.push_back(&task);
   ASSIGN_OR_RETURN(std::vector<v1::DrapeResult> results,
                    pipeline::RunDrapeTasks(tasks, {.cache_dir = flags.cache, .jobs = flags.jobs,
-                                         .label = "example drapes"}));
+                                         .label = "drapes"}));
   ASSIGN_OR_RETURN(v1::ClothingBasis clothing,
                    pipeline::AssembleClothingBasis(spec, plan, method, results));
   RETURN_IF_ERROR(proto::WriteMessageFile(flags.out, clothing));
   int overstretched = 0;
   for (const v1::DrapeResult& r : results) overstretched += r.report().overstretched();
   std::cout << absl::StrFormat(
-      "clothing basis %.12s: %s size %s, method %s, %d components, %d example drapes (%d "
-      "flagged overstretched), %d vertices\nwrote %s\n",
+      "clothing basis %.12s: %s size %s, method %s, %d components, %d drapes (%d "
+      "flagged overstretched), %d vertices\n",
       clothing.id(), garment.name(), flags.size, clothing.method(), clothing.component_count(),
-      results.size(), overstretched, clothing.vertex_count(), flags.out);
+      results.size(), overstretched, clothing.vertex_count());
+  if (clothing.has_kernel()) {
+    const v1::KernelCorrection& k = clothing.kernel();
+    std::cout << absl::StrFormat(
+        "kernel correction: %d outputs over %d bodies (%s scaling, ridge %g); RMS miss per "
+        "vertex on them %.2f mm linear, %.2f mm corrected (each body left out)\n",
+        k.output_count(), k.center_count(), k.input_scaling(), k.ridge(), k.linear_rms_mm(),
+        k.loo_rms_mm());
+  }
+  std::cout << "wrote " << flags.out << "\n";
   return absl::OkStatus();
 }
 
@@ -126,12 +147,19 @@ void AddClothingCommands(CLI::App& app, CliContext& context) {
   CLI::App* clothing = app.add_subcommand("clothing", "Clothing bases: a garment size's fit model");
   clothing->require_subcommand(1);
   CLI::App* build = clothing->add_subcommand(
-      "build", "Drape a garment size onto the 2N + 1 example avatars and build its clothing basis");
+      "build", "Drape a garment size onto the 2N + 1 example avatars (and, for kernel, sampled bodies) "
+      "and build its clothing basis");
   build->add_option("--basis", flags->basis, "Avatar basis (.fbb)")->required();
   build->add_option("--garment", flags->garment, "Garment imported on that basis (.fbg)")
       ->required();
   build->add_option("--size", flags->size, "Size name (default: M)");
-  build->add_option("--method", flags->method, "paper, linear (default) or quadratic");
+  build->add_option("--method", flags->method,
+                    "paper, linear (default), quadratic or kernel (needs --samples)");
+  build->add_option("--samples", flags->samples,
+                    "Bodies sampled from the basis's population and draped, which kernel learns "
+                    "from (default: 0)")
+      ->check(CLI::Range(0, pipeline::kMaxSampledDrapes));
+  build->add_option("--sample-seed", flags->sample_seed, "Seed of the sampled bodies (default: 1)");
   build->add_option("--scale", flags->scale,
                     "Examples at mean +- scale x sigma_k along each component (default: 1)")
       ->check(CLI::PositiveNumber);

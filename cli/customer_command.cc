@@ -37,7 +37,7 @@ struct CustomerFlags {
   std::string weights;
   std::string garment;
   std::string size = "M";
-  std::string method = "linear";
+  std::string method;
   bool raw = false;
   std::string garments;
   std::string sizes;
@@ -235,7 +235,7 @@ void AddCustomerCommands(CLI::App& app, CliContext& context) {
   fit->add_option("--weights", flags->weights, "Weights JSON (customer project)")->required();
   fit->add_option("--garment", flags->garment, "Garment id")->required();
   fit->add_option("--size", flags->size, "Size (default M)");
-  fit->add_option("--method", flags->method, "linear, quadratic or paper (default linear)");
+  fit->add_option("--method", flags->method, "kernel, linear, quadratic or paper (default: kernel where built, else linear)");
   fit->add_flag("--raw", flags->raw, "Ask for raw float32 positions instead of Draco");
   fit->add_option("--out", flags->out, "Fitted garment OBJ")->required();
   fit->callback([&context, flags] { context.action = [flags] { return RunFit(*flags); }; });
@@ -247,7 +247,7 @@ void AddCustomerCommands(CLI::App& app, CliContext& context) {
   outfit->add_option("--garments", flags->garments,
                      "ID[:SIZE],...: a garment without size gets every size")
       ->required();
-  outfit->add_option("--method", flags->method, "linear, quadratic or paper (default linear)");
+  outfit->add_option("--method", flags->method, "kernel, linear, quadratic or paper (default: kernel where built, else linear)");
   outfit->add_flag("--raw", flags->raw, "Ask for raw float32 positions instead of Draco");
   outfit->add_option("--out", flags->out, "Output folder")->required();
   outfit->callback([&context, flags] { context.action = [flags] { return RunOutfit(*flags); }; });
@@ -259,7 +259,7 @@ void AddCustomerCommands(CLI::App& app, CliContext& context) {
       ->required();
   advise->add_option("--garment", flags->garment, "Garment id")->required();
   advise->add_option("--sizes", flags->sizes, "Comma-separated sizes (default: every built one)");
-  advise->add_option("--method", flags->method, "linear, quadratic or paper (default linear)");
+  advise->add_option("--method", flags->method, "kernel, linear, quadratic or paper (default: kernel where built, else linear)");
   advise->add_option("--out", flags->out, "Also write the whole advice as JSON here");
   advise->callback([&context, flags] { context.action = [flags] { return RunAdvise(*flags); }; });
 }

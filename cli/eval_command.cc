@@ -7,6 +7,7 @@
 #include "core/file_util.h"
 #include "core/status_macros.h"
 #include "pipeline/accuracy_eval.h"
+#include "pipeline/clothing_basis_builder.h"
 #include "proto/json_codec.h"
 #include "proto/message_file.h"
 
@@ -24,6 +25,8 @@ struct EvalFlags {
   std::string preset;
   std::string methods = "paper,linear,quadratic,nearest,geometric";
   double scale = 1.0;
+  int samples = 0;
+  uint64_t sample_seed = 1;
   int jobs = 2;
   workers::DrapeSchedule schedule;
   std::string cache;
@@ -55,6 +58,8 @@ absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
   spec.preset = flags.preset;
   spec.methods = absl::StrSplit(flags.methods, ',', absl::SkipWhitespace());
   spec.example_scale = flags.scale;
+  spec.sampled_drapes = flags.samples;
+  spec.sample_seed = flags.sample_seed;
   spec.schedule = flags.schedule;
   spec.run = {.cache_dir = flags.cache.empty() ? out / "drapes" : fs::path(flags.cache),
               .jobs = flags.jobs,
@@ -100,7 +105,14 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
   eval->add_option("--preset", flags->preset,
                    "Population of the held-out avatars (default: the basis's)");
   eval->add_option("--methods", flags->methods,
-                   "Comma-separated: paper, linear, quadratic, nearest, geometric (default: all)");
+                   "Comma-separated: paper, linear, quadratic, kernel, nearest, geometric "
+                   "(default: all but kernel)");
+  eval->add_option("--samples", flags->samples,
+                   "Bodies sampled from the basis's population and draped per garment, to train "
+                   "the kernel method (default: 0)")
+      ->check(CLI::Range(0, pipeline::kMaxSampledDrapes));
+  eval->add_option("--sample-seed", flags->sample_seed,
+                   "Seed of the sampled bodies (default: 1)");
   eval->add_option("--scale", flags->scale,
                    "Examples at mean +- scale x sigma_k (default: 1)")
       ->check(CLI::PositiveNumber);

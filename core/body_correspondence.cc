@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <utility>
 
 #include "Eigen/Geometry"
 #include "absl/strings/str_cat.h"
@@ -21,11 +23,130 @@ struct AnchorCount {
   Eigen::Vector3f barycentric;
 };
 
+// A garment triangle a body vertex lay under, how often, and whether its corners must swap for
+// their normal to point away from the body (as first seen).
+struct GuardCount {
+  int32_t triangle;
+  int count;
+  bool flip;
+};
+
+// A body point this far (m) outside a garment triangle's plane is not under it: a fit that far
+// off has the triangle in another place of the body, and its plane says nothing there.
+constexpr float kGuardDepth = static_cast<float>(kGuardReach);
+// A guard's point may project this far (barycentric) outside its triangle: the point between
+// two guarded triangles whose projections leave a gap on a convex garment is still caught.
+constexpr float kGuardSlack = 0.05f;
+
+// Area-weighted vertex normals (unit, or zero for a vertex no triangle uses).
+Positions VertexNormals(const Positions& positions, const Triangles& triangles) {
+  Positions normals = Positions::Zero(positions.rows(), 3);
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    const Eigen::Vector3d a = positions.row(triangles(t, 0));
+    const Eigen::Vector3d cross =
+        (positions.row(triangles(t, 1)).transpose() - a).cross(
+            positions.row(triangles(t, 2)).transpose() - a);
+    for (int c = 0; c < 3; ++c) normals.row(triangles(t, c)) += cross.transpose();
+  }
+  for (Eigen::Index v = 0; v < normals.rows(); ++v) {
+    const double length = normals.row(v).norm();
+    if (length > 0) normals.row(v) /= length;
+  }
+  return normals;
+}
+
+// Garment triangles a body vertex lay under (closest drape point within kGuardReach, on the
+// outer side of the skin) in one example: counted into seen[body vertex].
+void CountGuards(const Positions& body, const Triangles& body_triangles,
+                 const std::vector<bool>& skin, const TriangleBvh& garment,
+                 std::vector<std::vector<GuardCount>>& seen) {
+  const Positions normals = VertexNormals(body, body_triangles);
+  for (Eigen::Index b = 0; b < body.rows(); ++b) {
+    if (!skin[b]) continue;
+    const Eigen::Vector3d p = body.row(b).transpose();
+    const SurfacePoint closest = garment.Closest(p, kGuardReach);
+    if (!closest.found) continue;
+    const Eigen::Vector3d up = closest.point - p;
+    const Eigen::Vector3d n = normals.row(b).transpose();
+    // Beside a hem the closest drape point lies along the skin, not over it.
+    if (up.dot(n) < 0.5 * up.norm()) continue;
+    const Eigen::RowVector3i t = garment.triangles().row(closest.triangle);
+    const Positions& g = garment.positions();
+    const Eigen::Vector3d face = (g.row(t[1]) - g.row(t[0])).cross(g.row(t[2]) - g.row(t[0]));
+    std::vector<GuardCount>& guards = seen[b];
+    auto it = std::find_if(guards.begin(), guards.end(), [&](const GuardCount& c) {
+      return c.triangle == closest.triangle;
+    });
+    if (it != guards.end()) {
+      ++it->count;
+    } else {
+      guards.push_back({closest.triangle, 1, face.dot(n) < 0});
+    }
+  }
+}
+
+// Point i of a field of 4-float points (xyz and a zero pad), 16-byte aligned.
+Eigen::Map<Eigen::Vector4f, Eigen::Aligned16> Point4(float* field, int32_t i) {
+  return Eigen::Map<Eigen::Vector4f, Eigen::Aligned16>(field + 4 * static_cast<Eigen::Index>(i));
+}
+
+// Adds what `request` still lacks to the displacement field (4 floats per vertex), shared among
+// its corners in proportion to their weights: the least-squares change that meets it.
+void Apply(const ClearanceRequest& request, float* field) {
+  float current = 0;
+  float weight_squares = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (request.weights[i] == 0) continue;
+    current += request.weights[i] * Point4(field, request.vertices[i]).dot(request.normal);
+    weight_squares += request.weights[i] * request.weights[i];
+  }
+  if (!(current < request.amount)) return;
+  const float step = (request.amount - current) / weight_squares;
+  for (int i = 0; i < 3; ++i) {
+    if (request.weights[i] == 0) continue;
+    Point4(field, request.vertices[i]) += (request.weights[i] * step) * request.normal;
+  }
+}
+
 }  // namespace
+
+absl::Status SetGarmentNeighbors(const Triangles& garment_triangles,
+                                 BodyCorrespondence& correspondence) {
+  const int64_t vertex_count = correspondence.vertex_count();
+  std::vector<std::pair<int32_t, int32_t>> edges;
+  edges.reserve(6 * static_cast<size_t>(garment_triangles.rows()));
+  for (Eigen::Index t = 0; t < garment_triangles.rows(); ++t) {
+    for (int c = 0; c < 3; ++c) {
+      const int32_t a = garment_triangles(t, c);
+      const int32_t b = garment_triangles(t, (c + 1) % 3);
+      if (a < 0 || a >= vertex_count || b < 0 || b >= vertex_count) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            "garment triangle ", t, " has a corner outside [0, ", vertex_count, ")"));
+      }
+      if (a == b) continue;
+      edges.emplace_back(a, b);
+      edges.emplace_back(b, a);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  correspondence.neighbor_offsets.assign(static_cast<size_t>(vertex_count) + 1, 0);
+  correspondence.neighbors.clear();
+  correspondence.neighbors.reserve(edges.size());
+  for (const auto& [from, to] : edges) {
+    ++correspondence.neighbor_offsets[from + 1];
+    correspondence.neighbors.push_back(to);
+  }
+  for (int64_t v = 0; v < vertex_count; ++v) {
+    correspondence.neighbor_offsets[v + 1] += correspondence.neighbor_offsets[v];
+  }
+  return absl::OkStatus();
+}
 
 absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(
     const std::vector<CorrespondenceExample>& examples, const PcaBasis& avatar,
-    const Triangles& body_triangles, double offset, int anchors_per_vertex) {
+    const Triangles& body_triangles, const Triangles& garment_triangles, double offset,
+    int anchors_per_vertex) {
   if (!std::isfinite(offset) || offset <= 0) {
     return absl::InvalidArgumentError(absl::StrCat("clean-up offset must be > 0 m, got ", offset));
   }
@@ -45,11 +166,28 @@ absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(
   }
   const Positions mean = Eigen::Map<const Positions>(avatar.mean.data(), avatar.mean.size() / 3, 3);
   ASSIGN_OR_RETURN(TriangleBvh bvh, TriangleBvh::Build(mean, body_triangles));
+  const bool guarded = garment_triangles.rows() > 0;
+  std::optional<TriangleBvh> garment_bvh;
+  std::vector<bool> skin(static_cast<size_t>(mean.rows()), false);
+  if (guarded) {
+    if (garment_triangles.minCoeff() < 0 || garment_triangles.maxCoeff() >= vertex_count) {
+      return absl::InvalidArgumentError(absl::StrCat("garment triangle corner outside [0, ",
+                                                     vertex_count, ")"));
+    }
+    ASSIGN_OR_RETURN(garment_bvh, TriangleBvh::Build(*examples[0].garment, garment_triangles));
+    for (int32_t i : body_triangles.reshaped()) skin[i] = true;
+  }
+  std::vector<std::vector<GuardCount>> guards_seen(guarded ? skin.size() : 0);
 
   std::vector<std::vector<AnchorCount>> seen(vertex_count);
   for (size_t e = 0; e < examples.size(); ++e) {
     const Eigen::VectorXd body = ReconstructFromWeights(avatar, examples[e].weights);
-    bvh.Refit(Eigen::Map<const Positions>(body.data(), body.size() / 3, 3));
+    const Eigen::Map<const Positions> body_positions(body.data(), body.size() / 3, 3);
+    bvh.Refit(body_positions);
+    if (guarded) {
+      garment_bvh->Refit(*examples[e].garment);
+      CountGuards(body_positions, body_triangles, skin, *garment_bvh, guards_seen);
+    }
     for (Eigen::Index v = 0; v < vertex_count; ++v) {
       const SurfacePoint closest = bvh.Closest(examples[e].garment->row(v).transpose(),
                                                std::numeric_limits<double>::infinity());
@@ -84,6 +222,20 @@ absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(
       for (int c = 0; c < 3; ++c) result.body_vertices.push_back(body_triangles(a.triangle, c));
     }
   }
+  std::vector<std::pair<int32_t, Eigen::RowVector3i>> guards;
+  for (size_t b = 0; b < guards_seen.size(); ++b) {
+    std::vector<GuardCount>& counts = guards_seen[b];
+    // Most frequent first; ties keep the order seen, the earlier example first.
+    std::stable_sort(counts.begin(), counts.end(), [](const GuardCount& x, const GuardCount& y) {
+      return x.count > y.count;
+    });
+    for (size_t k = 0; k < counts.size() && k < static_cast<size_t>(kGuardsPerBodyVertex); ++k) {
+      Eigen::RowVector3i corners = garment_triangles.row(counts[k].triangle);
+      if (counts[k].flip) std::swap(corners[1], corners[2]);
+      guards.emplace_back(static_cast<int32_t>(b), corners);
+      result.body_vertices.push_back(static_cast<int32_t>(b));
+    }
+  }
   std::sort(result.body_vertices.begin(), result.body_vertices.end());
   result.body_vertices.erase(std::unique(result.body_vertices.begin(), result.body_vertices.end()),
                              result.body_vertices.end());
@@ -96,14 +248,23 @@ absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(
     result.body_mean.segment<3>(3 * i) = avatar.mean.segment<3>(row).cast<float>();
     result.body_components.middleRows<3>(3 * i) = avatar.components.middleRows<3>(row).cast<float>();
   }
+  const auto row_of = [&](int32_t body_vertex) {
+    return static_cast<int32_t>(std::lower_bound(result.body_vertices.begin(),
+                                                 result.body_vertices.end(), body_vertex) -
+                                result.body_vertices.begin());
+  };
   result.corners.resize(rows, 3);
   for (Eigen::Index r = 0; r < rows; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      result.corners(r, c) = static_cast<int32_t>(
-          std::lower_bound(result.body_vertices.begin(), result.body_vertices.end(),
-                           body_triangles(triangles[r], c)) -
-          result.body_vertices.begin());
-    }
+    for (int c = 0; c < 3; ++c) result.corners(r, c) = row_of(body_triangles(triangles[r], c));
+  }
+  result.guard_triangles.resize(static_cast<Eigen::Index>(guards.size()), 3);
+  for (size_t g = 0; g < guards.size(); ++g) {
+    result.guard_body.push_back(row_of(guards[g].first));
+    result.guard_triangles.row(static_cast<Eigen::Index>(g)) = guards[g].second;
+  }
+  if (guarded) {
+    result.smoothing_iterations = kSmoothingIterations;
+    RETURN_IF_ERROR(SetGarmentNeighbors(garment_triangles, result));
   }
   return result;
 }
@@ -133,47 +294,214 @@ absl::Status ValidateBodyCorrespondence(const BodyCorrespondence& correspondence
       (correspondence.corners.minCoeff() < 0 || correspondence.corners.maxCoeff() >= u)) {
     return absl::InvalidArgumentError("body correspondence corner out of range");
   }
+  const Eigen::Index guards = correspondence.guard_triangles.rows();
+  if (static_cast<Eigen::Index>(correspondence.guard_body.size()) != guards) {
+    return absl::InvalidArgumentError(absl::StrCat("body correspondence has ",
+                                                   correspondence.guard_body.size(),
+                                                   " guard body points for ", guards,
+                                                   " guard triangles"));
+  }
+  for (int32_t b : correspondence.guard_body) {
+    if (b < 0 || b >= u) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("body correspondence guard body point ", b, " outside [0, ", u, ")"));
+    }
+  }
+  if (guards > 0 && (correspondence.guard_triangles.minCoeff() < 0 ||
+                     correspondence.guard_triangles.maxCoeff() >= garment_vertex_count)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "body correspondence guard triangle corner outside [0, ", garment_vertex_count, ")"));
+  }
+  if (correspondence.smoothing_iterations < 0 ||
+      correspondence.smoothing_iterations > kMaxSmoothingIterations) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("body correspondence smoothing iterations ",
+                     correspondence.smoothing_iterations, " outside [0, ",
+                     kMaxSmoothingIterations, "]"));
+  }
+  const std::vector<int32_t>& offsets = correspondence.neighbor_offsets;
+  const std::vector<int32_t>& neighbors = correspondence.neighbors;
+  if (offsets.empty()) {
+    if (!neighbors.empty() || correspondence.smoothing_iterations > 0) {
+      return absl::InvalidArgumentError(
+          "body correspondence smooths but has no garment neighbour lists");
+    }
+    return absl::OkStatus();
+  }
+  if (static_cast<int64_t>(offsets.size()) != garment_vertex_count + 1 || offsets.front() != 0 ||
+      offsets.back() != static_cast<int64_t>(neighbors.size()) ||
+      !std::is_sorted(offsets.begin(), offsets.end())) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "body correspondence neighbour lists do not match ", garment_vertex_count, " vertices"));
+  }
+  for (int32_t n : neighbors) {
+    if (n < 0 || n >= garment_vertex_count) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "body correspondence neighbour ", n, " outside [0, ", garment_vertex_count, ")"));
+    }
+  }
   return absl::OkStatus();
 }
 
 int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& weights,
-                      Eigen::VectorXf& body, float* positions) {
-  body = correspondence.body_mean;
-  body.noalias() += correspondence.body_components * weights;
+                      CleanupScratch& scratch, float* positions) {
+  Eigen::VectorXf& body3 = scratch.body;
+  body3 = correspondence.body_mean;
+  body3.noalias() += correspondence.body_components * weights;
+  // Points padded to 4 floats, so that each is one aligned vector load.
+  const Eigen::Index u = static_cast<Eigen::Index>(correspondence.body_vertices.size());
+  Eigen::VectorXf& body = scratch.body4;
+  if (body.size() != 4 * u) body.setZero(4 * u);
+  for (Eigen::Index i = 0; i < u; ++i) body.segment<3>(4 * i) = body3.segment<3>(3 * i);
+  const auto point = [&](int32_t i) { return Point4(body.data(), i); };
   const float offset = static_cast<float>(correspondence.offset);
   const int k = correspondence.anchors_per_vertex;
-  int64_t moved = 0;
-  for (Eigen::Index v = 0; v < correspondence.vertex_count(); ++v) {
-    Eigen::Map<Eigen::Vector3f> g(positions + 3 * v);
-    Eigen::Vector3f point = Eigen::Vector3f::Zero();
+  const Eigen::Index vertex_count = correspondence.vertex_count();
+  auto& requests = scratch.requests;
+  requests.clear();
+  requests.reserve(static_cast<size_t>(vertex_count + correspondence.guard_triangles.rows()));
+  for (Eigen::Index v = 0; v < vertex_count; ++v) {
+    const Eigen::Vector4f g(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 0);
+    Eigen::Vector4f nearest_point = Eigen::Vector4f::Zero();
     Eigen::Index nearest = -1;
     float best = std::numeric_limits<float>::infinity();
     for (Eigen::Index r = v * k; r < (v + 1) * k; ++r) {
-      const Eigen::Vector3f anchor =
-          correspondence.barycentric(r, 0) * body.segment<3>(3 * correspondence.corners(r, 0)) +
-          correspondence.barycentric(r, 1) * body.segment<3>(3 * correspondence.corners(r, 1)) +
-          correspondence.barycentric(r, 2) * body.segment<3>(3 * correspondence.corners(r, 2));
+      const Eigen::Vector4f anchor =
+          correspondence.barycentric(r, 0) * point(correspondence.corners(r, 0)) +
+          correspondence.barycentric(r, 1) * point(correspondence.corners(r, 1)) +
+          correspondence.barycentric(r, 2) * point(correspondence.corners(r, 2));
       const float distance = (g - anchor).squaredNorm();
       if (distance < best) {
         best = distance;
-        point = anchor;
+        nearest_point = anchor;
         nearest = r;
       }
     }
     if (nearest < 0) continue;
     // Only the nearest anchor's plane is needed: its normal is computed once, not per anchor.
-    const Eigen::Vector3f a = body.segment<3>(3 * correspondence.corners(nearest, 0));
-    const Eigen::Vector3f b = body.segment<3>(3 * correspondence.corners(nearest, 1));
-    const Eigen::Vector3f c = body.segment<3>(3 * correspondence.corners(nearest, 2));
-    Eigen::Vector3f normal = (b - a).cross(c - a);
+    const Eigen::Vector4f a = point(correspondence.corners(nearest, 0));
+    const Eigen::Vector4f b = point(correspondence.corners(nearest, 1));
+    const Eigen::Vector4f c = point(correspondence.corners(nearest, 2));
+    Eigen::Vector4f normal = (b - a).cross3(c - a);
     const float length = normal.norm();
     if (!(length > 0)) continue;
     normal /= length;
-    const float distance = (g - point).dot(normal);
+    const float distance = (g - nearest_point).dot(normal);
     if (distance < offset) {
-      g += (offset - distance) * normal;
+      const int32_t i = static_cast<int32_t>(v);
+      requests.push_back({{i, i, i}, {1, 0, 0}, normal, offset - distance});
+    }
+  }
+  Eigen::VectorXf& garment = scratch.garment4;
+  if (correspondence.guard_triangles.rows() > 0) {
+    if (garment.size() != 4 * vertex_count) garment.setZero(4 * vertex_count);
+    for (Eigen::Index v = 0; v < vertex_count; ++v) {
+      garment.segment<3>(4 * v) = Eigen::Map<const Eigen::Vector3f>(positions + 3 * v);
+    }
+  }
+  for (Eigen::Index guard = 0; guard < correspondence.guard_triangles.rows(); ++guard) {
+    const Eigen::Vector4f p = point(correspondence.guard_body[guard]);
+    const int32_t* corners = &correspondence.guard_triangles(guard, 0);
+    const Eigen::Vector4f a = Point4(garment.data(), corners[0]);
+    const Eigen::Vector4f ab = Point4(garment.data(), corners[1]) - a;
+    const Eigen::Vector4f ac = Point4(garment.data(), corners[2]) - a;
+    const Eigen::Vector4f cross = ab.cross3(ac);
+    const float area2 = cross.squaredNorm();
+    if (!(area2 > 0)) continue;
+    // The height of the triangle's plane above the point, times |cross|: a guard that lies
+    // clear is passed over without a root or a division.
+    const float scaled = cross.dot(a - p);
+    const float limit = scaled >= 0 ? offset : kGuardDepth;
+    if (!(scaled * scaled < limit * limit * area2)) continue;
+    const float length = std::sqrt(area2);
+    // Barycentric coordinates of the point's projection onto the plane.
+    const Eigen::Vector4f ap = p - a;
+    const float wb = ap.cross3(ac).dot(cross) / area2;
+    const float wc = ab.cross3(ap).dot(cross) / area2;
+    const float wa = 1 - wb - wc;
+    if (std::min({wa, wb, wc}) < -kGuardSlack) continue;
+    Eigen::Vector3f w(std::max(wa, 0.0f), std::max(wb, 0.0f), std::max(wc, 0.0f));
+    w /= w.sum();
+    requests.push_back({{corners[0], corners[1], corners[2]}, {w[0], w[1], w[2]},
+                        cross / length, offset - scaled / length});
+  }
+  if (requests.empty()) return 0;
+
+  // The field is zero outside `active`: the requests' corners, then each round one more ring
+  // of neighbours. Smoothing touches only those, so a fit that pushes little costs little; the
+  // bound is every vertex in every round.
+  Eigen::VectorXf& displacement = scratch.displacement;
+  if (displacement.size() != 4 * vertex_count) displacement.setZero(4 * vertex_count);
+  float* field = displacement.data();
+  std::vector<uint8_t>& marked = scratch.marked;
+  marked.resize(static_cast<size_t>(vertex_count), 0);
+  std::vector<int32_t>& active = scratch.active;
+  active.clear();
+  active.reserve(static_cast<size_t>(vertex_count));
+  for (const ClearanceRequest& r : requests) {
+    Apply(r, field);
+    for (int i = 0; i < 3; ++i) {
+      if (r.weights[i] == 0 || marked[r.vertices[i]]) continue;
+      marked[r.vertices[i]] = 1;
+      active.push_back(r.vertices[i]);
+    }
+  }
+  // Each pushed vertex keeps at least its push along its direction through the smoothing.
+  const size_t pushed = active.size();
+  std::vector<Eigen::Vector4f, Eigen::aligned_allocator<Eigen::Vector4f>>& held = scratch.held;
+  held.reserve(static_cast<size_t>(vertex_count));
+  held.resize(pushed);
+  for (size_t i = 0; i < pushed; ++i) {
+    const Eigen::Vector4f d = Point4(field, active[i]);
+    const float length = d.norm();
+    // Direction in xyz, length in w.
+    held[i] = length > 0 ? Eigen::Vector4f(d / length) : Eigen::Vector4f::Zero();
+    held[i][3] = length;
+  }
+  const std::vector<int32_t>& offsets = correspondence.neighbor_offsets;
+  const std::vector<int32_t>& neighbors = correspondence.neighbors;
+  size_t frontier = 0;
+  for (int iteration = 0; iteration < correspondence.smoothing_iterations; ++iteration) {
+    const size_t ring = active.size();
+    for (size_t i = frontier; i < ring; ++i) {
+      for (int32_t n = offsets[active[i]]; n < offsets[active[i] + 1]; ++n) {
+        if (marked[neighbors[n]]) continue;
+        marked[neighbors[n]] = 1;
+        active.push_back(neighbors[n]);
+      }
+    }
+    frontier = ring;
+    // Gauss-Seidel, in place: a push spreads further per round than with Jacobi. Rounds
+    // alternate direction, so that two together favour no side.
+    const bool forward = iteration % 2 == 0;
+    for (size_t i = 0; i < active.size(); ++i) {
+      const int32_t v = active[forward ? i : active.size() - 1 - i];
+      Eigen::Vector4f sum = Point4(field, v);
+      for (int32_t n = offsets[v]; n < offsets[v + 1]; ++n) sum += Point4(field, neighbors[n]);
+      Point4(field, v) = sum * (1.0f / static_cast<float>(1 + offsets[v + 1] - offsets[v]));
+    }
+    for (size_t i = 0; i < pushed; ++i) {
+      Eigen::Vector4f direction = held[i];
+      direction[3] = 0;
+      auto d = Point4(field, active[i]);
+      const float along = d.dot(direction);
+      if (along < held[i][3]) d += (held[i][3] - along) * direction;
+    }
+  }
+  // Averaging may leave a triangle's request a little short where pushes of several corners
+  // met; one more pass meets each exactly.
+  if (correspondence.smoothing_iterations > 0) {
+    for (const ClearanceRequest& r : requests) Apply(r, field);
+  }
+  int64_t moved = 0;
+  for (const int32_t v : active) {
+    auto d = Point4(field, v);
+    if (!d.isZero(0)) {
+      Eigen::Map<Eigen::Vector3f>(positions + 3 * static_cast<Eigen::Index>(v)) += d.head<3>();
       ++moved;
     }
+    d.setZero();
+    marked[v] = 0;
   }
   return moved;
 }

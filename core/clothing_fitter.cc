@@ -16,7 +16,7 @@ absl::StatusOr<int64_t> ClothingFitter::Fit(const Eigen::VectorXf& weights, bool
                                             FitScratch& scratch, Eigen::VectorXf& out) const {
   RETURN_IF_ERROR(CheckFitWeights(model_, weights));
   FitClothing(model_, weights, scratch.features, out);
-  return cleanup ? PushOutOfBody(correspondence_, weights, scratch.body, out.data()) : 0;
+  return cleanup ? PushOutOfBody(correspondence_, weights, scratch.cleanup, out.data()) : 0;
 }
 
 }  // namespace fitbase::core

@@ -12,7 +12,7 @@ namespace fitbase::core {
 // Per-thread working memory of ClothingFitter::Fit, so a fit allocates nothing once warm.
 struct FitScratch {
   Eigen::VectorXf features;
-  Eigen::VectorXf body;
+  CleanupScratch cleanup;
 };
 
 // The online fit of one garment size: the clothing model evaluated at a customer's avatar

@@ -1,8 +1,13 @@
 #include "core/clothing_model.h"
 
 #include <cmath>
+#include <optional>
+#include <utility>
 
+#include "Eigen/Eigenvalues"
 #include "absl/strings/str_cat.h"
+#include "core/kernel_ridge.h"
+#include "core/status_macros.h"
 
 namespace fitbase::core {
 
@@ -10,8 +15,9 @@ absl::StatusOr<ClothingMethod> ParseClothingMethod(absl::string_view name) {
   if (name == "paper") return ClothingMethod::kPaper;
   if (name == "linear") return ClothingMethod::kLinear;
   if (name == "quadratic") return ClothingMethod::kQuadratic;
-  return absl::InvalidArgumentError(
-      absl::StrCat("unknown clothing method '", name, "'; expected paper, linear or quadratic"));
+  if (name == "kernel") return ClothingMethod::kKernel;
+  return absl::InvalidArgumentError(absl::StrCat(
+      "unknown clothing method '", name, "'; expected paper, linear, quadratic or kernel"));
 }
 
 std::string ClothingMethodName(ClothingMethod method) {
@@ -22,6 +28,8 @@ std::string ClothingMethodName(ClothingMethod method) {
       return "linear";
     case ClothingMethod::kQuadratic:
       return "quadratic";
+    case ClothingMethod::kKernel:
+      return "kernel";
   }
   return "unknown";
 }
@@ -93,6 +101,11 @@ absl::StatusOr<ClothingModel> BuildClothingModel(ClothingMethod method,
         design.example_count(), " (2N + 1 examples for N = ", n, ")"));
   }
   if (!drapes.allFinite()) return absl::InvalidArgumentError("example drapes are not finite");
+  if (method == ClothingMethod::kKernel) {
+    return absl::InvalidArgumentError(
+        "the kernel method learns from drapes of sampled bodies; build it with "
+        "BuildKernelClothingModel");
+  }
   ClothingModel model;
   model.method = method;
   model.component_count = n;
@@ -117,6 +130,118 @@ absl::StatusOr<ClothingModel> BuildClothingModel(ClothingMethod method,
   return model;
 }
 
+absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& design,
+                                                       const Eigen::MatrixXd& drapes,
+                                                       const SampledDrapes& samples,
+                                                       const KernelBuildOptions& options,
+                                                       KernelBuildReport* report) {
+  const int n = design.component_count();
+  const Eigen::Index sampled = samples.weights.cols();
+  if (samples.weights.rows() != n || sampled < 1 || samples.drapes.cols() != sampled ||
+      samples.drapes.rows() != drapes.rows()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "sampled drapes are ", samples.drapes.rows(), " x ", samples.drapes.cols(),
+        " with weights ", samples.weights.rows(), " x ", sampled, "; expected ", drapes.rows(),
+        " x M and ", n, " x M, M >= 1"));
+  }
+  if (!samples.weights.allFinite() || !samples.drapes.allFinite()) {
+    return absl::InvalidArgumentError("sampled drapes or their weights are not finite");
+  }
+  if (!(options.output_energy > 0 && options.output_energy <= 1) || options.max_outputs < 1) {
+    return absl::InvalidArgumentError("kernel outputs need an energy in (0, 1] and a count >= 1");
+  }
+  ASSIGN_OR_RETURN(ClothingModel model,
+                   BuildClothingModel(ClothingMethod::kLinear, design, drapes));
+  model.method = ClothingMethod::kKernel;
+  const Eigen::Index d = drapes.rows();
+  const Eigen::Index examples = design.example_count();
+  const Eigen::Index m = examples + sampled;
+  const double vertices = static_cast<double>(d / 3);
+
+  // Every body with a drape trains the correction: the axis examples (where the linear model
+  // misses by its curvature) and the sampled bodies.
+  Eigen::MatrixXd features(1 + n, m);
+  features.row(0).setOnes();
+  for (Eigen::Index e = 0; e < examples; ++e) {
+    features.col(e).tail(n) = design.Weights(static_cast<int>(e));
+  }
+  features.bottomRightCorner(n, sampled) = samples.weights;
+  Eigen::MatrixXd misses(d, m);
+  misses.leftCols(examples) = drapes;
+  misses.rightCols(sampled) = samples.drapes;
+  misses.noalias() -= model.basis.cast<double>() * features;
+
+  // The misses' principal directions, from the M x M Gram matrix (M is far below D).
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> gram(misses.transpose() * misses);
+  const Eigen::VectorXd energies = gram.eigenvalues().reverse().cwiseMax(0.0);
+  const double total = energies.sum();
+  int outputs = 0;
+  double kept = 0;
+  while (total > 0 && outputs < options.max_outputs && outputs < m &&
+         kept < options.output_energy * total && energies(outputs) > 0) {
+    kept += energies(outputs++);
+  }
+  const Eigen::MatrixXd directions_in_samples = gram.eigenvectors().rowwise().reverse();
+  Eigen::MatrixXd directions(d, outputs);  // Orthonormal columns.
+  Eigen::MatrixXd targets(m, outputs);     // Each body's miss in those directions.
+  for (int c = 0; c < outputs; ++c) {
+    const double s = std::sqrt(energies(c));
+    directions.col(c) = misses * directions_in_samples.col(c) / s;
+    targets.col(c) = directions_in_samples.col(c) * s;
+  }
+  const double linear_rms = std::sqrt(total / (static_cast<double>(m) * vertices));
+
+  const Eigen::ArrayXd sigma_scale = design.sigmas.array().inverse();
+  Eigen::ArrayXd response_scale(n);
+  for (int k = 0; k < n; ++k) {
+    response_scale(k) = model.basis.col(1 + k).cast<double>().norm() / std::sqrt(vertices);
+  }
+  KernelBuildReport chosen;
+  chosen.outputs = outputs;
+  chosen.kept_energy = total > 0 ? kept / total : 1.0;
+  chosen.linear_rms_mm = 1000 * linear_rms;
+  chosen.loo_rms_mm = chosen.linear_rms_mm;
+  if (outputs > 0) {
+    std::optional<KernelRidge> best;
+    Eigen::ArrayXd best_scale;
+    for (const auto& [name, scale] :
+         {std::pair<const char*, const Eigen::ArrayXd*>{"sigma", &sigma_scale},
+          std::pair<const char*, const Eigen::ArrayXd*>{"response", &response_scale}}) {
+      const Eigen::MatrixXd inputs =
+          scale->matrix().asDiagonal() * features.bottomRows(n);
+      absl::StatusOr<KernelRidge> fitted = FitKernelRidge(inputs, targets);
+      if (!fitted.ok()) continue;  // All inputs equal under this scaling: try the other.
+      if (!best || fitted->loo_rms < best->loo_rms) {
+        best = *std::move(fitted);
+        best_scale = *scale;
+        chosen.input_scaling = name;
+      }
+    }
+    if (!best) {
+      return absl::InvalidArgumentError("the sampled bodies do not differ in their weights");
+    }
+    const double discarded = std::max(0.0, total - kept);
+    chosen.length_scale = best->length_scale;
+    chosen.ridge = best->ridge;
+    chosen.loo_rms_mm =
+        1000 * std::sqrt((best->loo_rms * best->loo_rms * static_cast<double>(m) + discarded) /
+                         (static_cast<double>(m) * vertices));
+    model.kernel.length_scale = static_cast<float>(best->length_scale);
+    model.kernel.input_scale = best_scale.cast<float>();
+    model.kernel.centers = best->centers.cast<float>();
+    model.kernel.coefficients = best->coefficients.cast<float>();
+    const Eigen::Index first = model.basis.cols();
+    model.basis.conservativeResize(d, first + outputs);
+    model.basis.rightCols(outputs) = directions.cast<float>();
+  } else {
+    model.kernel.input_scale = sigma_scale.cast<float>();
+    model.kernel.centers.resize(n, 0);
+    model.kernel.coefficients.resize(0, 0);
+  }
+  if (report != nullptr) *report = chosen;
+  return model;
+}
+
 absl::Status ValidateClothingModel(const ClothingModel& model) {
   const Eigen::Index d = model.basis.rows();
   const Eigen::Index t = model.term_count();
@@ -126,10 +251,31 @@ absl::Status ValidateClothingModel(const ClothingModel& model) {
   if (model.component_count <= 0) {
     return absl::InvalidArgumentError("clothing model takes no avatar weights");
   }
-  if (t < 0) return absl::InvalidArgumentError("clothing model has no mean");
-  if (static_cast<Eigen::Index>(model.term_component.size()) != t ||
+  const KernelCorrection& kernel = model.kernel;
+  const Eigen::Index c = kernel.output_count();
+  if (model.basis.cols() != 1 + t + c ||
       static_cast<Eigen::Index>(model.term_power.size()) != t) {
-    return absl::InvalidArgumentError("clothing term components and powers disagree with terms");
+    return absl::InvalidArgumentError(absl::StrCat(
+        "clothing model has ", model.basis.cols(), " columns for ", t, " terms (",
+        model.term_power.size(), " powers) and ", c, " kernel outputs"));
+  }
+  if (model.method == ClothingMethod::kKernel) {
+    if (kernel.input_scale.size() != model.component_count ||
+        kernel.centers.rows() != model.component_count ||
+        kernel.coefficients.cols() != kernel.center_count()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "kernel correction has ", kernel.input_scale.size(), " input scales, centers ",
+          kernel.centers.rows(), " x ", kernel.centers.cols(), " and coefficients ", c, " x ",
+          kernel.coefficients.cols(), " for ", model.component_count, " components"));
+    }
+    if (!std::isfinite(kernel.length_scale) || !(kernel.length_scale > 0) ||
+        !kernel.input_scale.allFinite() || !kernel.centers.allFinite() ||
+        !kernel.coefficients.allFinite()) {
+      return absl::InvalidArgumentError("kernel correction is not finite or its length scale <= 0");
+    }
+  } else if (c != 0 || kernel.center_count() != 0) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "a ", ClothingMethodName(model.method), " clothing model has no kernel correction"));
   }
   for (Eigen::Index i = 0; i < t; ++i) {
     if (model.term_component[i] < 0 || model.term_component[i] >= model.component_count) {
@@ -160,13 +306,28 @@ absl::Status CheckFitWeights(const ClothingModel& model, const Eigen::VectorXf& 
 
 namespace {
 
-// (1, f_0(w), ..., f_T-1(w)): the mean's coefficient first.
+// (1, f_0(w), ..., f_T-1(w), c_0(w), ..., c_C-1(w)): the mean's coefficient first.
 template <typename Weights, typename Features>
 void ComputeFeatures(const ClothingModel& model, const Weights& weights, Features& features) {
   features(0) = 1;
   for (size_t t = 0; t < model.term_component.size(); ++t) {
     const auto w = weights(model.term_component[t]);
     features(static_cast<Eigen::Index>(t) + 1) = model.term_power[t] == 1 ? w : w * w;
+  }
+  const KernelCorrection& kernel = model.kernel;
+  const Eigen::Index c = kernel.output_count();
+  if (c == 0) return;
+  auto outputs = features.tail(c);
+  outputs.setZero();
+  const float scale = -0.5f / (kernel.length_scale * kernel.length_scale);
+  const Eigen::Index n = kernel.centers.rows();
+  for (Eigen::Index j = 0; j < kernel.center_count(); ++j) {
+    float squared = 0;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const float delta = weights(k) * kernel.input_scale(k) - kernel.centers(k, j);
+      squared += delta * delta;
+    }
+    outputs += std::exp(scale * squared) * kernel.coefficients.col(j);
   }
 }
 

@@ -18,6 +18,7 @@ enum class ClothingMethod {
   kPaper,      // The published method: clothing mean and normalized clothing components.
   kLinear,     // g0 + sum_k w_k (g_k+ - g_k-) / (2 s sigma_k).
   kQuadratic,  // linear + sum_k w_k^2 (g_k+ + g_k- - 2 g0) / (2 s^2 sigma_k^2).
+  kKernel,     // linear + a Gaussian-kernel correction learned from drapes of sampled bodies.
 };
 
 absl::StatusOr<ClothingMethod> ParseClothingMethod(absl::string_view name);
@@ -38,20 +39,38 @@ struct ExampleDesign {
 // ExampleDesign for sigmas > 0 (finite) and scale > 0 (finite); InvalidArgument otherwise.
 absl::StatusOr<ExampleDesign> MakeExampleDesign(const Eigen::VectorXd& sigmas, double scale);
 
-// g(w) = mean + terms * f(w), f_t(w) = w[term_component[t]] ^ term_power[t].
-// Flattened garments: D = 3V floats, xyz interleaved, meters. `basis` is D x (1 + T),
-// column-major: column 0 is the mean and column 1 + t is term t, each one contiguous D-vector.
-// A fit is then one matrix-vector product with (1, f(w)) and a batch of customers one matrix
-// product, each result written once (bench/fit_bench measures this layout fastest).
+// The non-linear part of a `kernel` model: Gaussian-kernel ridge regression of what the linear
+// model misses, over drapes of bodies sampled from the population. Its C outputs weight C
+// directions of the garment (the leading principal components of those misses):
+//   c(w) = coefficients * k(z),  k_j(z) = exp(-|z - centers_j|^2 / (2 l^2)),  z = w .* input_scale.
+// Far from every training body c falls to 0 and the linear model is left as it is.
+struct KernelCorrection {
+  float length_scale = 1.0f;     // l, in the unit of z.
+  Eigen::VectorXf input_scale;   // N.
+  Eigen::MatrixXf centers;       // N x M: the training bodies' z.
+  Eigen::MatrixXf coefficients;  // C x M.
+  int64_t center_count() const { return centers.cols(); }
+  int64_t output_count() const { return coefficients.rows(); }
+};
+
+// g(w) = mean + terms * f(w) + kernel_outputs * c(w), f_t(w) = w[term_component[t]] ^
+// term_power[t], c(w) as in KernelCorrection (C = 0 but for `kernel`).
+// Flattened garments: D = 3V floats, xyz interleaved, meters. `basis` is D x (1 + T + C),
+// column-major: column 0 is the mean, column 1 + t is term t and the last C are the kernel's
+// output directions, each one contiguous D-vector. A fit is then one matrix-vector product
+// with (1, f(w), c(w)) and a batch of customers one matrix product, each result written once
+// (bench/fit_bench measures this layout fastest).
 struct ClothingModel {
   ClothingMethod method = ClothingMethod::kLinear;
   int component_count = 0;  // N: the length of the weight vectors the fit takes.
-  Eigen::MatrixXf basis;    // D x (1 + T).
+  Eigen::MatrixXf basis;    // D x (1 + T + C).
   std::vector<int32_t> term_component;  // T, in [0, N).
   std::vector<int32_t> term_power;      // T, 1 or 2.
+  KernelCorrection kernel;              // Empty (C = 0) but for `kernel`.
   auto mean() const { return basis.col(0); }
-  auto terms() const { return basis.rightCols(basis.cols() - 1); }
-  int64_t term_count() const { return basis.cols() - 1; }
+  auto terms() const { return basis.middleCols(1, term_count()); }
+  auto kernel_outputs() const { return basis.rightCols(kernel.output_count()); }
+  int64_t term_count() const { return static_cast<int64_t>(term_component.size()); }
   int64_t vertex_count() const { return basis.rows() / 3; }
 };
 
@@ -61,14 +80,51 @@ absl::StatusOr<ClothingModel> BuildClothingModel(ClothingMethod method,
                                                  const ExampleDesign& design,
                                                  const Eigen::MatrixXd& drapes);
 
+// Drapes of bodies sampled from the population, the training set of the kernel correction.
+struct SampledDrapes {
+  Eigen::MatrixXd weights;  // N x M, the sampled bodies' avatar weights, m.
+  Eigen::MatrixXd drapes;   // D x M, meters.
+};
+
+struct KernelBuildOptions {
+  // The correction's outputs: the fewest principal components of the linear model's misses
+  // that keep this share of their energy, at most max_outputs (each costs one more column in
+  // every fit).
+  double output_energy = 0.999;
+  int max_outputs = 32;
+};
+
+// How the correction was chosen, for the clothing basis's provenance and the eval report.
+struct KernelBuildReport {
+  std::string input_scaling;      // "sigma" (z_k = w_k / sigma_k) or "response" (below).
+  double length_scale = 0;        // l, in the unit of z.
+  double ridge = 0;
+  int outputs = 0;                // C.
+  double kept_energy = 0;         // Of the misses, by the C outputs.
+  double linear_rms_mm = 0;       // RMS per vertex of the linear model's misses on the set.
+  double loo_rms_mm = 0;          // The same after the correction, each body left out in turn.
+};
+
+// `kernel`: the linear model of the axis examples (drapes as in BuildClothingModel), plus a
+// correction fitted to its misses on the axis examples and `samples` (N x M weights, D x M
+// drapes, M >= 1). The inputs are scaled two ways and the leave-one-out error picks one:
+// "sigma" (z_k = w_k / sigma_k) and "response" (z_k = w_k |linear term_k| / sqrt(V): the RMS
+// per-vertex move the linear model gives w_k, so the components this garment follows count
+// most). InvalidArgument for mismatched shapes or non-finite values.
+absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& design,
+                                                       const Eigen::MatrixXd& drapes,
+                                                       const SampledDrapes& samples,
+                                                       const KernelBuildOptions& options,
+                                                       KernelBuildReport* report);
+
 // Checks a model read from elsewhere: sizes agree, indices and powers in range, all finite.
 absl::Status ValidateClothingModel(const ClothingModel& model);
 
 // weights must have model.component_count finite entries (InvalidArgument otherwise).
 absl::Status CheckFitWeights(const ClothingModel& model, const Eigen::VectorXf& weights);
 
-// One customer: out (D) = g(weights). `features` is scratch of 1 + T floats. No allocation once
-// `out` and `features` have their sizes; the weights are assumed checked.
+// One customer: out (D) = g(weights). `features` is scratch of 1 + T + C floats. No allocation
+// once `out` and `features` have their sizes; the weights are assumed checked.
 void FitClothing(const ClothingModel& model, const Eigen::VectorXf& weights,
                  Eigen::VectorXf& features, Eigen::VectorXf& out);
 

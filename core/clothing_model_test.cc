@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/random.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -148,8 +149,128 @@ TEST(ClothingModelTest, ChecksWeightsAndModels) {
               StatusIs(absl::StatusCode::kInvalidArgument, "uses component 4 of 4"));
 }
 
+// A garment whose vertices follow the weights non-linearly: a slide that saturates with
+// component 0 (as leggings stop sliding once the waistband grips) and a bulge that grows with
+// the square of component 1.
+Eigen::MatrixXd SmoothDrape(const ExampleDesign& design, const Eigen::MatrixXd& weights) {
+  Eigen::MatrixXd drapes(3 * kVertices, weights.cols());
+  for (Eigen::Index b = 0; b < weights.cols(); ++b) {
+    const double z0 = weights(0, b) / design.sigmas(0);
+    const double z1 = weights(1, b) / design.sigmas(1);
+    for (int v = 0; v < kVertices; ++v) {
+      drapes(3 * v, b) = 0.01 * v + 0.002 * weights(2, b) / design.sigmas(2);
+      drapes(3 * v + 1, b) = 0.02 * std::tanh(z0) * (1 + 0.01 * v);
+      drapes(3 * v + 2, b) = 0.005 * z1 * z1 * std::cos(0.1 * v);
+    }
+  }
+  return drapes;
+}
+
+Eigen::MatrixXd SampleWeights(const ExampleDesign& design, int count, uint64_t seed) {
+  Random random(seed, 0);
+  Eigen::MatrixXd weights(kComponents, count);
+  for (int b = 0; b < count; ++b) {
+    for (int k = 0; k < kComponents; ++k) weights(k, b) = random.Normal(0, design.sigmas(k));
+  }
+  return weights;
+}
+
+double RmsError(const ClothingModel& model, const ExampleDesign& design,
+                const Eigen::MatrixXd& weights) {
+  const Eigen::MatrixXd truth = SmoothDrape(design, weights);
+  double squared = 0;
+  for (Eigen::Index b = 0; b < weights.cols(); ++b) {
+    squared += (Fit(model, weights.col(b)).cast<double>() - truth.col(b)).squaredNorm();
+  }
+  return std::sqrt(squared / static_cast<double>(weights.cols() * kVertices));
+}
+
+ClothingModel KernelModel(const ExampleDesign& design, KernelBuildReport* report) {
+  Eigen::MatrixXd examples(kComponents, design.example_count());
+  for (int e = 0; e < design.example_count(); ++e) examples.col(e) = design.Weights(e);
+  SampledDrapes samples;
+  samples.weights = SampleWeights(design, 120, 1);
+  samples.drapes = SmoothDrape(design, samples.weights);
+  absl::StatusOr<ClothingModel> model = BuildKernelClothingModel(
+      design, SmoothDrape(design, examples), samples, KernelBuildOptions{}, report);
+  EXPECT_TRUE(model.ok()) << model.status();
+  return *std::move(model);
+}
+
+TEST(KernelClothingModelTest, LearnsWhatTheLinearModelMissesOnNewBodies) {
+  const ExampleDesign design = Design();
+  KernelBuildReport report;
+  const ClothingModel kernel = KernelModel(design, &report);
+  EXPECT_TRUE(ValidateClothingModel(kernel).ok());
+  Eigen::MatrixXd examples(kComponents, design.example_count());
+  for (int e = 0; e < design.example_count(); ++e) examples.col(e) = design.Weights(e);
+  const ClothingModel linear =
+      *BuildClothingModel(ClothingMethod::kLinear, design, SmoothDrape(design, examples));
+  const Eigen::MatrixXd held_out = SampleWeights(design, 40, 2);
+  const double linear_error = RmsError(linear, design, held_out);
+  const double kernel_error = RmsError(kernel, design, held_out);
+  EXPECT_LT(kernel_error, 0.4 * linear_error) << linear_error << " " << kernel_error;
+  // The report's leave-one-out estimate is of the same order as the held-out error.
+  EXPECT_GT(report.linear_rms_mm, 1000 * 0.5 * linear_error);
+  EXPECT_LT(report.loo_rms_mm, 1000 * 3 * kernel_error + 0.05);
+  EXPECT_GE(report.outputs, 1);
+  EXPECT_GE(report.kept_energy, 0.999);
+  EXPECT_THAT(report.input_scaling, ::testing::AnyOf("sigma", "response"));
+  // At the mean body the linear model is exact and the correction adds next to nothing.
+  EXPECT_LT((Fit(kernel, Eigen::VectorXd::Zero(kComponents)) - linear.mean()).cwiseAbs().maxCoeff(),
+            2e-4);
+}
+
+TEST(KernelClothingModelTest, FallsBackToTheLinearModelFarFromEveryTrainingBody) {
+  const ExampleDesign design = Design();
+  const ClothingModel kernel = KernelModel(design, nullptr);
+  ClothingModel linear = kernel;
+  linear.method = ClothingMethod::kLinear;
+  linear.basis.conservativeResize(Eigen::NoChange, 1 + linear.term_count());
+  linear.kernel = {};
+  Eigen::VectorXd far = 40 * design.sigmas;
+  EXPECT_LT((Fit(kernel, far) - Fit(linear, far)).cwiseAbs().maxCoeff(), 1e-5);
+}
+
+TEST(KernelClothingModelTest, BatchEqualsSingleFits) {
+  const ExampleDesign design = Design();
+  const ClothingModel model = KernelModel(design, nullptr);
+  const Eigen::MatrixXf weights = SampleWeights(design, 3, 9).cast<float>();
+  Eigen::MatrixXf batch;
+  FitClothingBatch(model, weights, batch);
+  for (int b = 0; b < 3; ++b) {
+    EXPECT_LT((batch.col(b) - Fit(model, weights.col(b).cast<double>())).cwiseAbs().maxCoeff(),
+              1e-6);
+  }
+}
+
+TEST(KernelClothingModelTest, ChecksItsInputsAndItsCorrection) {
+  const ExampleDesign design = Design();
+  const Eigen::MatrixXd drapes = ExampleDrapes(design);
+  SampledDrapes samples;
+  samples.weights = Eigen::MatrixXd::Zero(kComponents, 2);
+  samples.drapes = Eigen::MatrixXd::Zero(3 * kVertices, 3);
+  EXPECT_THAT(BuildKernelClothingModel(design, drapes, samples, {}, nullptr),
+              StatusIs(absl::StatusCode::kInvalidArgument, "sampled drapes are"));
+  EXPECT_THAT(BuildClothingModel(ClothingMethod::kKernel, design, drapes),
+              StatusIs(absl::StatusCode::kInvalidArgument, "BuildKernelClothingModel"));
+  ClothingModel model = KernelModel(design, nullptr);
+  model.kernel.centers.conservativeResize(Eigen::NoChange, model.kernel.center_count() - 1);
+  EXPECT_THAT(ValidateClothingModel(model),
+              StatusIs(absl::StatusCode::kInvalidArgument, "kernel correction has"));
+  model = KernelModel(design, nullptr);
+  model.kernel.length_scale = 0;
+  EXPECT_THAT(ValidateClothingModel(model),
+              StatusIs(absl::StatusCode::kInvalidArgument, "length scale"));
+  model = KernelModel(design, nullptr);
+  model.method = ClothingMethod::kLinear;
+  EXPECT_THAT(ValidateClothingModel(model),
+              StatusIs(absl::StatusCode::kInvalidArgument, "has no kernel correction"));
+}
+
 TEST(ClothingMethodTest, NamesRoundTrip) {
-  for (auto method : {ClothingMethod::kPaper, ClothingMethod::kLinear, ClothingMethod::kQuadratic}) {
+  for (auto method : {ClothingMethod::kPaper, ClothingMethod::kLinear, ClothingMethod::kQuadratic,
+                      ClothingMethod::kKernel}) {
     EXPECT_EQ(*ParseClothingMethod(ClothingMethodName(method)), method);
   }
   EXPECT_THAT(ParseClothingMethod("cubic"),

@@ -180,6 +180,14 @@ absl::StatusOr<RenderedImage> RenderFrontAndSide(const std::vector<RenderLayer>&
     if (legend == nullptr && layers[i].values.size() > 0) legend = &layers[i];
   }
   if (!lo.allFinite()) return absl::InvalidArgumentError("nothing to render: no vertices");
+  if (options.frame.has_value()) {
+    const Eigen::AlignedBox3d& frame = *options.frame;
+    if (!frame.min().allFinite() || !frame.max().allFinite() || frame.isEmpty()) {
+      return absl::InvalidArgumentError("render frame is empty or not finite");
+    }
+    lo = frame.min();
+    hi = frame.max();
+  }
 
   const Eigen::Vector3d extent = hi - lo;
   const double margin_px = std::round(options.margin * options.height);

@@ -3,9 +3,11 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "Eigen/Core"
+#include "Eigen/Geometry"
 #include "absl/status/statusor.h"
 #include "core/mesh.h"
 
@@ -23,6 +25,10 @@ struct RenderLayer {
 struct RenderOptions {
   int height = 600;      // pixels; the width follows from the meshes' extent.
   double margin = 0.05;  // of the height, around each view.
+  // The world box (m) the views frame; empty: the union bounding box of all layers. Two renders
+  // with the same frame and height map every world point to the same pixel, so they compare
+  // pixel by pixel; what lies outside the frame is clipped at the views' edges.
+  std::optional<Eigen::AlignedBox3d> frame;
 };
 
 // A view's place in the image: columns [x0, x0 + width).
@@ -56,14 +62,14 @@ std::vector<double> ColorScaleLimits(double min, double max);
 // RGB in [0, 1] of the band holding `value` (clamped to [min, max]; min < max).
 Eigen::Vector3d ColorScaleColor(double value, double min, double max);
 
-// Orthographic front and side views side by side, framed on the union bounding box of all
-// layers, z-buffered, flat Lambert shading lit from the camera (two-sided: ambient 0.3 plus
-// 0.7 |n . view|) on a white background. Pixels are sampled at their centres; at equal depth the
-// later layer wins, so a garment listed after its body shows where they touch. If any layer has
-// values, a legend strip of the colour scale's bands (highest on top, first such layer's range)
-// is drawn right of the views. Errors (INVALID_ARGUMENT): no layers, no vertices at all, a
-// height outside [16, 16384], values not one per vertex or non-finite, value_min >= value_max,
-// a face index out of range.
+// Orthographic front and side views side by side, framed on options.frame (by default the union
+// bounding box of all layers), z-buffered, flat Lambert shading lit from the camera (two-sided:
+// ambient 0.3 plus 0.7 |n . view|) on a white background. Pixels are sampled at their centres;
+// at equal depth the later layer wins, so a garment listed after its body shows where they
+// touch. If any layer has values, a legend strip of the colour scale's bands (highest on top,
+// first such layer's range) is drawn right of the views. Errors (INVALID_ARGUMENT): no layers,
+// no vertices at all, a height outside [16, 16384], values not one per vertex or non-finite,
+// value_min >= value_max, a face index out of range, a frame that is empty or not finite.
 absl::StatusOr<RenderedImage> RenderFrontAndSide(const std::vector<RenderLayer>& layers,
                                                  const RenderOptions& options = {});
 

@@ -138,6 +138,33 @@ TEST(MeshRenderTest, ScalarLayerUsesColorScaleAndAddsLegend) {
   EXPECT_EQ(ColorScaleLimits(-2, 6), (std::vector<double>{-2, -1, 0, 1, 2, 3, 4, 5, 6}));
 }
 
+TEST(MeshRenderTest, GivenFrameMapsTwoScenesToTheSamePixels) {
+  // Alone, the small box would fill the view; framed on the big one, it lands where the big
+  // box's render puts the same world points.
+  const std::vector<RenderLayer> big = {Layer(Box({0, 0.5, 0}, {0.4, 1, 0.2}), {1, 0, 0})};
+  const std::vector<RenderLayer> small = {Layer(Box({0.1, 0.2, 0}, {0.1, 0.1, 0.1}), {0, 0, 1})};
+  const Eigen::AlignedBox3d frame(Eigen::Vector3d(-0.4, -0.5, -0.2),
+                                  Eigen::Vector3d(0.4, 1.5, 0.2));
+  const absl::StatusOr<RenderedImage> a = RenderFrontAndSide(big, {.height = 300, .frame = frame});
+  const absl::StatusOr<RenderedImage> b =
+      RenderFrontAndSide(small, {.height = 300, .frame = frame});
+  ASSERT_TRUE(a.ok()) << a.status();
+  ASSERT_TRUE(b.ok()) << b.status();
+  EXPECT_EQ(a->width, b->width);
+  EXPECT_EQ(a->pixels_per_meter, b->pixels_per_meter);
+  EXPECT_EQ(b->pixels_per_meter, (300 - 2 * 15) / 2.0);
+  int small_pixels = 0;
+  for (int y = 0; y < b->height; ++y) {
+    for (int x = 0; x < b->width; ++x) {
+      if (b->LayerAt(x, y) != 0) continue;
+      ++small_pixels;
+      EXPECT_EQ(a->LayerAt(x, y), 0) << x << "," << y;
+    }
+  }
+  const double side_px = 0.2 * b->pixels_per_meter;
+  EXPECT_NEAR(small_pixels, 2 * side_px * side_px, 0.1 * side_px * side_px);
+}
+
 TEST(MeshRenderTest, RejectsBadLayers) {
   RenderLayer layer = Layer(Box({0, 0, 0}, {1, 1, 1}), {1, 1, 1});
   layer.values = Eigen::VectorXd::Zero(7);
@@ -149,6 +176,10 @@ TEST(MeshRenderTest, RejectsBadLayers) {
   layer.mesh.faces.indices[0] = 8;
   EXPECT_EQ(RenderFrontAndSide({layer}).status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(RenderFrontAndSide({}).status().code(), absl::StatusCode::kInvalidArgument);
+  layer.mesh.faces.indices[0] = 0;
+  const Eigen::AlignedBox3d empty;
+  EXPECT_EQ(RenderFrontAndSide({layer}, {.frame = empty}).status().code(),
+            absl::StatusCode::kInvalidArgument);
 }
 
 }  // namespace

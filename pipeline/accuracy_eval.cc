@@ -16,6 +16,7 @@
 #include "pipeline/avatar_projection.h"
 #include "pipeline/clothing_basis_builder.h"
 #include "pipeline/size_advisor.h"
+#include "pipeline/skin_visibility.h"
 #include "proto/avatar_basis_codec.h"
 #include "proto/clothing_basis_codec.h"
 #include "proto/mesh_codec.h"
@@ -29,11 +30,14 @@ using Positions32 = Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
 constexpr double kPenetrationSearch = 0.01;  // m: deeper than any fit's penetration.
 
-// A held-out customer: the real body, its surface for penetration queries, its weights.
+// A held-out customer: the real body, its surface for penetration queries, its weights, and
+// the body of the weights (mean + components x weights), which the fit service shows a fitted
+// garment on.
 struct Holdout {
   core::Positions body;
   core::TriangleBvh surface;
   Eigen::VectorXf weights;
+  core::Positions weights_body;
 };
 
 // One row of the table, accumulated over avatars (and, for the overall table, garments).
@@ -45,6 +49,8 @@ struct RowStats {
   int64_t below_1mm = 0;
   double fit_micros_sum = 0;
   int fit_micros_count = 0;
+  SkinVisibility skin;
+  double skin_share_max = 0;
 
   void Add(const core::Positions& fit, const core::Positions& truth,
            const core::TriangleBvh& body) {
@@ -54,6 +60,25 @@ struct RowStats {
       below_0mm += p.found && p.signed_distance < 0;
       below_1mm += p.found && p.signed_distance < 0.001;
     }
+  }
+
+  // The fit shown on `fit_body` against the drape `truth` on the held-out avatar's real body.
+  absl::Status AddSkin(const core::Positions& fit, const core::Positions& fit_body,
+                       const core::Positions& truth, const Holdout& holdout,
+                       const core::Triangles& body_triangles,
+                       const core::Triangles& garment_triangles) {
+    ASSIGN_OR_RETURN(
+        const SkinVisibility s,
+        MeasureVisibleSkin({&holdout.body, &body_triangles, &truth, &garment_triangles},
+                           {&fit_body, &body_triangles, &fit, &garment_triangles}));
+    AddSkin(s, s.share());
+    return absl::OkStatus();
+  }
+
+  void AddSkin(const SkinVisibility& s, double share_max) {
+    skin.cloth_pixels += s.cloth_pixels;
+    skin.skin_pixels += s.skin_pixels;
+    skin_share_max = std::max(skin_share_max, share_max);
   }
 
   v1::MethodAccuracy Finish(double drape_seconds) const {
@@ -76,6 +101,8 @@ struct RowStats {
     const double micros = fit_micros_count ? fit_micros_sum / fit_micros_count : 0;
     row.set_fit_microseconds(micros);
     row.set_speedup(micros > 0 ? drape_seconds * 1e6 / micros : 0);
+    row.set_visible_skin(skin.share());
+    row.set_visible_skin_max(skin_share_max);
     return row;
   }
 };
@@ -100,11 +127,15 @@ core::Positions FromFlat(const Eigen::VectorXf& flat) {
   return Eigen::Map<const Positions32>(flat.data(), flat.size() / 3, 3).cast<double>();
 }
 
-absl::Status CheckMethods(const std::vector<std::string>& methods) {
-  for (const std::string& m : methods) {
+absl::Status CheckMethods(const AccuracyEvalSpec& spec) {
+  for (const std::string& m : spec.methods) {
     if (m != "nearest" && m != "geometric") RETURN_IF_ERROR(core::ParseClothingMethod(m).status());
+    if (m == "kernel" && spec.sampled_drapes < 1) {
+      return absl::InvalidArgumentError(
+          "the kernel method learns from drapes of sampled bodies; give their number");
+    }
   }
-  if (methods.empty()) return absl::InvalidArgumentError("no methods to evaluate");
+  if (spec.methods.empty()) return absl::InvalidArgumentError("no methods to evaluate");
   return absl::OkStatus();
 }
 
@@ -130,10 +161,13 @@ absl::StatusOr<std::vector<Holdout>> MakeHoldouts(const core::BodyModel& body_mo
     error_sum += weights.mean_error_mm();
     ASSIGN_OR_RETURN(core::TriangleBvh surface,
                      core::TriangleBvh::Build(body.positions, triangles));
-    holdouts.push_back(
-        {body.positions, std::move(surface),
-         Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
-             .cast<float>()});
+    const Eigen::VectorXf w =
+        Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
+            .cast<float>();
+    const Eigen::VectorXd weights_body = core::ReconstructFromWeights(basis.pca, w.cast<double>());
+    holdouts.push_back({body.positions, std::move(surface), w,
+                        Eigen::Map<const core::Positions>(weights_body.data(),
+                                                          weights_body.size() / 3, 3)});
   }
   *error_mean_mm = spec.holdout_count ? error_sum / spec.holdout_count : 0;
   return holdouts;
@@ -143,7 +177,7 @@ absl::StatusOr<std::vector<Holdout>> MakeHoldouts(const core::BodyModel& body_mo
 // baselines.
 std::vector<RowStats> EmptyRows(const std::vector<std::string>& methods) {
   std::vector<RowStats> rows;
-  for (const char* m : {"paper", "linear", "quadratic"}) {
+  for (const char* m : {"paper", "linear", "quadratic", "kernel"}) {
     if (!Wants(methods, m)) continue;
     for (bool cleanup : {false, true}) {
       rows.emplace_back();
@@ -169,10 +203,13 @@ struct GarmentDrapes {
 absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& g,
                              const std::vector<v1::DrapeResult>& examples,
                              const std::vector<v1::DrapeResult>& truths,
-                             const std::vector<Holdout>& holdouts, std::vector<RowStats>& rows,
+                             const std::vector<Holdout>& holdouts,
+                             const core::Triangles& body_triangles, std::vector<RowStats>& rows,
                              v1::GarmentAccuracy& out) {
   const v1::Garment& garment = *g.spec.garment;
   const int64_t vertex_count = garment.template_mesh().vertex_count();
+  ASSIGN_OR_RETURN(const core::Mesh garment_mesh, proto::MeshFromProto(garment.template_mesh()));
+  const core::Triangles garment_triangles = core::Triangulate(garment_mesh.faces);
   std::optional<core::ClothingFitter> fitter;
   for (RowStats& row : rows) {
     if (row.method == "nearest" || row.method == "geometric") continue;
@@ -196,7 +233,10 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
       RETURN_IF_ERROR(fitter->Fit(holdouts[h].weights, row.cleanup, scratch, fit).status());
       ASSIGN_OR_RETURN(core::Positions truth,
                        workers::DrapeResultPositions(truths[h], vertex_count));
-      row.Add(FromFlat(fit), truth, holdouts[h].surface);
+      const core::Positions fitted = FromFlat(fit);
+      row.Add(fitted, truth, holdouts[h].surface);
+      RETURN_IF_ERROR(row.AddSkin(fitted, holdouts[h].weights_body, truth, holdouts[h],
+                                  body_triangles, garment_triangles));
     }
     row.fit_micros_sum += MicrosPerCall(
         [&] { (void)fitter->Fit(holdouts[0].weights, row.cleanup, scratch, fit); });
@@ -225,6 +265,8 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
         ASSIGN_OR_RETURN(core::Positions truth,
                          workers::DrapeResultPositions(truths[h], vertex_count));
         row.Add(positions, truth, holdouts[h].surface);
+        RETURN_IF_ERROR(row.AddSkin(positions, holdouts[h].weights_body, truth, holdouts[h],
+                                    body_triangles, garment_triangles));
       }
       row.fit_micros_sum += MicrosPerCall([&] {
         const v1::DrapeResult& chosen = examples[nearest(holdouts[0].weights)];
@@ -242,6 +284,9 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
         ASSIGN_OR_RETURN(core::Positions truth,
                          workers::DrapeResultPositions(truths[h], vertex_count));
         row.Add(fit.positions, truth, holdouts[h].surface);
+        // The binding fits the real body, so it is shown on it.
+        RETURN_IF_ERROR(row.AddSkin(fit.positions, holdouts[h].body, truth, holdouts[h],
+                                    body_triangles, garment_triangles));
       }
     }
   }
@@ -277,7 +322,7 @@ absl::StatusOr<EvalBasis> LoadEvalBasis(const AccuracyEvalSpec& spec) {
 
 absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_model,
                                                     const AccuracyEvalSpec& spec) {
-  RETURN_IF_ERROR(CheckMethods(spec.methods));
+  RETURN_IF_ERROR(CheckMethods(spec));
   if (spec.holdout_count < 1) return absl::InvalidArgumentError("need at least 1 held-out avatar");
   ASSIGN_OR_RETURN(EvalBasis loaded, LoadEvalBasis(spec));
   const v1::AvatarBasis& basis_message = *spec.avatar_basis;
@@ -305,7 +350,9 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_
   for (const v1::Garment* garment : spec.garments) {
     GarmentDrapes g;
     g.spec = {.avatar_basis = &basis_message, .garment = garment, .size = spec.size,
-              .example_scale = spec.example_scale, .settings = spec.settings,
+              .example_scale = spec.example_scale,
+              .sampled_drapes = Wants(spec.methods, "kernel") ? spec.sampled_drapes : 0,
+              .sample_seed = spec.sample_seed, .settings = spec.settings,
               .schedule = spec.schedule};
     ASSIGN_OR_RETURN(g.plan, PlanClothingBasis(g.spec));
     for (const Holdout& h : holdouts) {
@@ -348,7 +395,8 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_
     overall_drape_seconds += seconds / static_cast<double>(garments.size());
 
     std::vector<RowStats> rows = EmptyRows(spec.methods);
-    RETURN_IF_ERROR(EvaluateGarment(spec, g, examples, truths, holdouts, rows, *out));
+    RETURN_IF_ERROR(
+        EvaluateGarment(spec, g, examples, truths, holdouts, triangles, rows, *out));
     for (size_t r = 0; r < rows.size(); ++r) {
       *out->add_methods() = rows[r].Finish(seconds);
       overall[r].errors_mm.insert(overall[r].errors_mm.end(), rows[r].errors_mm.begin(),
@@ -357,6 +405,7 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_
       overall[r].below_1mm += rows[r].below_1mm;
       overall[r].fit_micros_sum += rows[r].fit_micros_sum / rows[r].fit_micros_count;
       ++overall[r].fit_micros_count;
+      overall[r].AddSkin(rows[r].skin, rows[r].skin_share_max);
     }
   }
   for (const RowStats& row : overall) *report.add_overall() = row.Finish(overall_drape_seconds);
@@ -544,15 +593,17 @@ void AppendTable(const google::protobuf::RepeatedPtrField<v1::MethodAccuracy>& r
                  std::string& md) {
   absl::StrAppend(&md,
                   "| method | clean-up | mean mm | p95 mm | max mm | pen. < 0 mm | pen. < 1 mm | "
-                  "fit us | speed-up |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+                  "visible skin (max) | fit us | speed-up |\n"
+                  "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const v1::MethodAccuracy& r : rows) {
     absl::StrAppend(&md, absl::StrFormat("| %s | %s | %.2f | %.2f | %.1f | %.3f%% | %.3f%% | "
-                                         "%.1f | %.0fx |\n",
+                                         "%.2f%% (%.2f%%) | %.1f | %.0fx |\n",
                                          r.method(), r.cleanup() ? "yes" : "no",
                                          r.error_mean_mm(), r.error_p95_mm(), r.error_max_mm(),
                                          100 * r.penetration_below_0mm(),
-                                         100 * r.penetration_below_1mm(), r.fit_microseconds(),
-                                         r.speedup()));
+                                         100 * r.penetration_below_1mm(),
+                                         100 * r.visible_skin(), 100 * r.visible_skin_max(),
+                                         r.fit_microseconds(), r.speedup()));
   }
 }
 
@@ -563,7 +614,9 @@ std::string AccuracyReportMarkdown(const v1::AccuracyReport& report) {
       "# Fast fit against the physics drape\n\nAvatar basis `%s` (%d components), size %s, "
       "%d held-out `%s` avatars (seed %d, projection error %.2f mm mean), examples at "
       "mean +- %.2g sigma.\nErrors are per-vertex distances to the drape of the same body; "
-      "penetration is measured against the real held-out body.\n",
+      "penetration is measured against the real held-out body. Visible skin: pixels of the front "
+      "and side views (600 px high) where the drape shows cloth and the fit shows skin, over the "
+      "drape's cloth pixels (all avatars; max: the worst avatar).\n",
       report.avatar_basis_id().substr(0, 12), report.component_count(), report.size(),
       report.holdout_count(), report.preset(), report.holdout_seed(),
       report.avatar_error_mean_mm(), report.example_scale());

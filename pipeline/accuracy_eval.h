@@ -25,9 +25,11 @@ struct AccuracyEvalSpec {
   int holdout_count = 20;
   uint64_t holdout_seed = 2;
   std::string preset;  // Empty: the basis's own population preset.
-  // Any of paper, linear, quadratic, nearest, geometric.
+  // Any of paper, linear, quadratic, kernel (needs sampled_drapes), nearest, geometric.
   std::vector<std::string> methods = {"paper", "linear", "quadratic", "nearest", "geometric"};
   double example_scale = 1.0;
+  int sampled_drapes = 0;  // Per garment, for `kernel` (see ClothingBuildSpec).
+  uint64_t sample_seed = 1;
   workers::ClothSettings settings;
   workers::DrapeSchedule schedule;
   DrapeRunOptions run;

@@ -3,6 +3,7 @@
 #include "absl/strings/str_cat.h"
 #include "core/body_correspondence.h"
 #include "core/content_hash.h"
+#include "core/random.h"
 #include "core/status_macros.h"
 #include "proto/avatar_basis_codec.h"
 #include "proto/clothing_basis_codec.h"
@@ -10,6 +11,20 @@
 #include "workers/garment_drape.h"
 
 namespace fitbase::pipeline {
+namespace {
+
+// Part of every clothing basis id: a basis assembled by other code (another model or clean-up)
+// from the same drapes is other bytes, so it must have another id. Version 2: the kernel
+// method and the clean-up's triangle guards.
+constexpr absl::string_view kAssemblyVersion = "clothing-basis-2";
+
+}  // namespace
+
+std::string ClothingPlan::TaskLabel(size_t task) const {
+  const auto examples = static_cast<size_t>(design.example_count());
+  return task < examples ? design.Label(static_cast<int>(task))
+                         : absl::StrCat("sample-", task - examples);
+}
 
 absl::StatusOr<ClothingPlan> PlanClothingBasis(const ClothingBuildSpec& spec) {
   const v1::AvatarBasis& basis = *spec.avatar_basis;
@@ -20,16 +35,32 @@ absl::StatusOr<ClothingPlan> PlanClothingBasis(const ClothingBuildSpec& spec) {
         ", not on ", basis.id(), "; import it on this basis first"));
   }
   RETURN_IF_ERROR(workers::FindGarmentSize(garment, spec.size).status());
+  if (spec.sampled_drapes < 0 || spec.sampled_drapes > kMaxSampledDrapes) {
+    return absl::InvalidArgumentError(absl::StrCat("sampled drapes ", spec.sampled_drapes,
+                                                   " is outside [0, ", kMaxSampledDrapes, "]"));
+  }
   ClothingPlan plan;
   ASSIGN_OR_RETURN(plan.avatar, proto::PcaBasisFromProto(basis));
   ASSIGN_OR_RETURN(plan.design,
                    core::MakeExampleDesign(plan.avatar.variances.cwiseSqrt(), spec.example_scale));
-  for (int e = 0; e < plan.design.example_count(); ++e) {
-    const Eigen::VectorXd body = core::ReconstructFromWeights(plan.avatar, plan.design.Weights(e));
+  const int n = plan.design.component_count();
+  plan.sample_weights.resize(n, spec.sampled_drapes);
+  for (int i = 0; i < spec.sampled_drapes; ++i) {
+    // One stream per sample, so a plan with more samples starts with the same bodies and
+    // their drapes come from the cache.
+    core::Random random(spec.sample_seed, static_cast<uint64_t>(i));
+    for (int k = 0; k < n; ++k) {
+      plan.sample_weights(k, i) = plan.design.sigmas(k) * random.TruncatedNormal(0, 1, -3, 3);
+    }
+  }
+  auto add_task = [&](const Eigen::VectorXd& weights) {
+    const Eigen::VectorXd body = core::ReconstructFromWeights(plan.avatar, weights);
     plan.tasks.push_back(workers::MakeDrapeTask(
         garment, spec.size, Eigen::Map<const core::Positions>(body.data(), body.size() / 3, 3),
         spec.settings, spec.schedule));
-  }
+  };
+  for (int e = 0; e < plan.design.example_count(); ++e) add_task(plan.design.Weights(e));
+  for (int i = 0; i < spec.sampled_drapes; ++i) add_task(plan.sample_weights.col(i));
   return plan;
 }
 
@@ -40,21 +71,38 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
   const int64_t vertex_count = garment.template_mesh().vertex_count();
   if (results.size() != plan.tasks.size()) {
     return absl::InvalidArgumentError(absl::StrCat("got ", results.size(), " drape results for ",
-                                                   plan.tasks.size(), " example drapes"));
+                                                   plan.tasks.size(), " drapes"));
   }
-  Eigen::MatrixXd drapes(3 * vertex_count, static_cast<Eigen::Index>(results.size()));
-  for (size_t e = 0; e < results.size(); ++e) {
-    if (results[e].key() != plan.tasks[e].key) {
-      return absl::InvalidArgumentError(absl::StrCat("drape result ", results[e].key(),
-                                                     " does not belong to example ",
-                                                     plan.design.Label(static_cast<int>(e))));
+  const bool kernel = method == core::ClothingMethod::kKernel;
+  const auto examples_used = static_cast<Eigen::Index>(plan.design.example_count());
+  const Eigen::Index sampled = plan.sample_weights.cols();
+  if (kernel && sampled == 0) {
+    return absl::FailedPreconditionError(
+        "the kernel method learns from drapes of sampled bodies; plan some (sampled drapes > 0)");
+  }
+  const Eigen::Index used = kernel ? examples_used + sampled : examples_used;
+  Eigen::MatrixXd drapes(3 * vertex_count, used);
+  for (Eigen::Index e = 0; e < used; ++e) {
+    const auto task = static_cast<size_t>(e);
+    if (results[task].key() != plan.tasks[task].key) {
+      return absl::InvalidArgumentError(absl::StrCat("drape result ", results[task].key(),
+                                                     " does not belong to drape ",
+                                                     plan.TaskLabel(task)));
     }
     ASSIGN_OR_RETURN(core::Positions positions,
-                     workers::DrapeResultPositions(results[e], vertex_count));
-    drapes.col(static_cast<Eigen::Index>(e)) = positions.reshaped<Eigen::RowMajor>();
+                     workers::DrapeResultPositions(results[task], vertex_count));
+    drapes.col(e) = positions.reshaped<Eigen::RowMajor>();
   }
-  ASSIGN_OR_RETURN(core::ClothingModel model,
-                   core::BuildClothingModel(method, plan.design, drapes));
+  core::ClothingModel model;
+  core::KernelBuildReport kernel_report;
+  if (kernel) {
+    ASSIGN_OR_RETURN(model, core::BuildKernelClothingModel(
+                                plan.design, drapes.leftCols(examples_used),
+                                {plan.sample_weights, drapes.rightCols(sampled)}, {},
+                                &kernel_report));
+  } else {
+    ASSIGN_OR_RETURN(model, core::BuildClothingModel(method, plan.design, drapes));
+  }
   ASSIGN_OR_RETURN(core::Mesh mean_body, proto::MeshFromProto(spec.avatar_basis->mean()));
   std::vector<core::Positions> example_drapes;
   std::vector<core::CorrespondenceExample> examples;
@@ -63,11 +111,16 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
         Eigen::Map<const core::Positions>(drapes.col(e).data(), vertex_count, 3));
   }
   for (Eigen::Index e = 0; e < drapes.cols(); ++e) {
-    examples.push_back({&example_drapes[e], plan.design.Weights(static_cast<int>(e))});
+    examples.push_back({&example_drapes[e], e < examples_used
+                                                ? plan.design.Weights(static_cast<int>(e))
+                                                : Eigen::VectorXd(plan.sample_weights.col(
+                                                      e - examples_used))});
   }
+  ASSIGN_OR_RETURN(const core::Mesh garment_mesh, proto::MeshFromProto(garment.template_mesh()));
   ASSIGN_OR_RETURN(core::BodyCorrespondence correspondence,
                    core::BuildBodyCorrespondence(examples, plan.avatar,
                                                  core::Triangulate(mean_body.faces),
+                                                 core::Triangulate(garment_mesh.faces),
                                                  spec.settings.collision_offset,
                                                  spec.cleanup_anchors));
 
@@ -81,20 +134,31 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
   provenance->set_example_scale(spec.example_scale);
   provenance->set_simulator(workers::SimulatorDescription(spec.settings, spec.schedule));
   core::ContentHash id;
-  id.Add(absl::string_view("clothing-basis"))
+  id.Add(kAssemblyVersion)
       .Add(absl::string_view(garment.id()))
       .Add(absl::string_view(spec.size))
       .Add(absl::string_view(spec.avatar_basis->id()))
       .Add(absl::string_view(message.method()))
       .Add(spec.example_scale)
       .Add(static_cast<int64_t>(spec.cleanup_anchors));
-  for (size_t e = 0; e < plan.tasks.size(); ++e) {
+  for (Eigen::Index e = 0; e < used; ++e) {
+    const auto task = static_cast<size_t>(e);
     v1::ClothingExample* example = provenance->add_examples();
-    example->set_label(plan.design.Label(static_cast<int>(e)));
-    const Eigen::VectorXd weights = plan.design.Weights(static_cast<int>(e));
+    example->set_label(plan.TaskLabel(task));
+    const Eigen::VectorXd weights = e < examples_used ? plan.design.Weights(static_cast<int>(e))
+                                                      : plan.sample_weights.col(e - examples_used);
     example->mutable_weights()->Assign(weights.begin(), weights.end());
-    example->set_drape_key(plan.tasks[e].key);
-    id.Add(absl::string_view(plan.tasks[e].key));
+    example->set_drape_key(plan.tasks[task].key);
+    id.Add(absl::string_view(plan.tasks[task].key));
+  }
+  if (kernel) {
+    provenance->set_sampled_drapes(static_cast<uint32_t>(sampled));
+    provenance->set_sample_seed(spec.sample_seed);
+    v1::KernelCorrection* k = message.mutable_kernel();
+    k->set_input_scaling(kernel_report.input_scaling);
+    k->set_ridge(kernel_report.ridge);
+    k->set_linear_rms_mm(kernel_report.linear_rms_mm);
+    k->set_loo_rms_mm(kernel_report.loo_rms_mm);
   }
   message.set_id(id.HexDigest());
   v1::Mesh* faces = message.mutable_faces();

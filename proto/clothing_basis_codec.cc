@@ -3,6 +3,7 @@
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
 #include "proto/garment_codec.h"
+#include "proto/mesh_codec.h"
 
 namespace fitbase::proto {
 
@@ -17,6 +18,22 @@ void ClothingModelToProto(const core::ClothingModel& model, v1::ClothingBasis* m
   message->mutable_term_component()->Assign(model.term_component.begin(),
                                             model.term_component.end());
   message->mutable_term_power()->Assign(model.term_power.begin(), model.term_power.end());
+  if (model.method != core::ClothingMethod::kKernel) {
+    message->clear_kernel();
+    return;
+  }
+  const core::KernelCorrection& kernel = model.kernel;
+  v1::KernelCorrection* out = message->mutable_kernel();
+  out->set_length_scale(kernel.length_scale);
+  out->mutable_input_scale()->Assign(kernel.input_scale.begin(), kernel.input_scale.end());
+  out->set_center_count(static_cast<uint32_t>(kernel.center_count()));
+  const auto centers = kernel.centers.reshaped();
+  out->mutable_centers()->Assign(centers.begin(), centers.end());
+  out->set_output_count(static_cast<uint32_t>(kernel.output_count()));
+  const auto coefficients = kernel.coefficients.reshaped();
+  out->mutable_coefficients()->Assign(coefficients.begin(), coefficients.end());
+  const auto outputs = model.kernel_outputs().reshaped();
+  out->mutable_outputs()->Assign(outputs.begin(), outputs.end());
 }
 
 void BodyCorrespondenceToProto(const core::BodyCorrespondence& correspondence,
@@ -33,6 +50,11 @@ void BodyCorrespondenceToProto(const core::BodyCorrespondence& correspondence,
   message->mutable_corners()->Assign(corners.begin(), corners.end());
   const auto barycentric = correspondence.barycentric.reshaped<Eigen::RowMajor>();
   message->mutable_barycentric()->Assign(barycentric.begin(), barycentric.end());
+  message->mutable_guard_body()->Assign(correspondence.guard_body.begin(),
+                                        correspondence.guard_body.end());
+  const auto guards = correspondence.guard_triangles.reshaped<Eigen::RowMajor>();
+  message->mutable_guard_triangles()->Assign(guards.begin(), guards.end());
+  message->set_smoothing_iterations(static_cast<uint32_t>(correspondence.smoothing_iterations));
 }
 
 absl::StatusOr<core::ClothingModel> ClothingModelFromProto(const v1::ClothingBasis& message) {
@@ -46,12 +68,35 @@ absl::StatusOr<core::ClothingModel> ClothingModelFromProto(const v1::ClothingBas
         " vertices and ", t, " terms need ", d, " mean and ", d * t, " term values, found ",
         message.mean_size(), " and ", message.terms_size()));
   }
+  const v1::KernelCorrection& kernel = message.kernel();
+  const int64_t n = message.component_count();
+  const int64_t m = kernel.center_count();
+  const int64_t c = kernel.output_count();
+  // Bounds before any product of counts, so a hostile file cannot overflow the checks.
+  const int64_t scales = method == core::ClothingMethod::kKernel ? n : 0;
+  if (n > (1 << 16) || m > (1 << 20) || c > (1 << 16) || kernel.input_scale_size() != scales ||
+      kernel.centers_size() != n * m || kernel.coefficients_size() != c * m ||
+      kernel.outputs_size() != c * d) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "clothing basis ", message.id(), " has an inconsistent kernel correction: ", m,
+        " centers of ", n, " weights and ", c, " outputs of ", d, " values need ", n * m, ", ",
+        c * m, " and ", c * d, ", found ", kernel.centers_size(), ", ",
+        kernel.coefficients_size(), " and ", kernel.outputs_size()));
+  }
   core::ClothingModel model;
   model.method = method;
-  model.component_count = static_cast<int>(message.component_count());
-  model.basis.resize(d, 1 + t);
+  model.component_count = static_cast<int>(n);
+  model.basis.resize(d, 1 + t + c);
   model.basis.col(0) = Eigen::Map<const Eigen::VectorXf>(message.mean().data(), d);
-  model.basis.rightCols(t) = Eigen::Map<const Eigen::MatrixXf>(message.terms().data(), d, t);
+  model.basis.middleCols(1, t) = Eigen::Map<const Eigen::MatrixXf>(message.terms().data(), d, t);
+  model.basis.rightCols(c) = Eigen::Map<const Eigen::MatrixXf>(kernel.outputs().data(), d, c);
+  if (method == core::ClothingMethod::kKernel) {
+    model.kernel.length_scale = kernel.length_scale();
+    model.kernel.input_scale = Eigen::Map<const Eigen::VectorXf>(kernel.input_scale().data(), n);
+    model.kernel.centers = Eigen::Map<const Eigen::MatrixXf>(kernel.centers().data(), n, m);
+    model.kernel.coefficients =
+        Eigen::Map<const Eigen::MatrixXf>(kernel.coefficients().data(), c, m);
+  }
   for (int64_t i = 0; i < t; ++i) {
     model.term_component.push_back(static_cast<int32_t>(message.term_component(i)));
     model.term_power.push_back(static_cast<int32_t>(message.term_power(i)));
@@ -67,9 +112,11 @@ absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
   const int64_t k = c.anchors_per_vertex();
   const int64_t u = c.body_vertices_size();
   const int64_t n = message.component_count();
+  const int64_t g = c.guard_body_size();
   if (k < 1 || k > 64 || c.corners_size() != 3 * v * k || c.barycentric_size() != 3 * v * k ||
       c.body_mean_size() != 3 * u ||
-      c.body_components_size() != 3 * u * n) {
+      c.body_components_size() != 3 * u * n || c.guard_triangles_size() != 3 * g ||
+      c.smoothing_iterations() > core::kMaxSmoothingIterations) {
     return absl::InvalidArgumentError(absl::StrCat(
         "clothing basis ", message.id(), " has an inconsistent body correspondence (", v,
         " garment vertices, ", u, " body vertices, ", n, " components)"));
@@ -87,6 +134,27 @@ absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
   result.barycentric =
       Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
           c.barycentric().data(), v * k, 3);
+  for (uint32_t b : c.guard_body()) {
+    result.guard_body.push_back(static_cast<int32_t>(std::min<uint32_t>(b, INT32_MAX)));
+  }
+  result.guard_triangles.resize(g, 3);
+  for (int64_t i = 0; i < 3 * g; ++i) {
+    result.guard_triangles(i / 3, i % 3) =
+        static_cast<int32_t>(std::min<uint32_t>(c.guard_triangles(i), INT32_MAX));
+  }
+  result.smoothing_iterations = static_cast<int>(c.smoothing_iterations());
+  if (result.smoothing_iterations > 0) {
+    // The smoothing runs over the garment's edges, which its faces give.
+    v1::Mesh faces = message.faces();
+    *faces.mutable_positions() = message.mean();
+    if (faces.vertex_count() != message.vertex_count()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "clothing basis ", message.id(), " smooths its clean-up but has faces for ",
+          faces.vertex_count(), " vertices, not ", v));
+    }
+    ASSIGN_OR_RETURN(const core::Mesh mesh, MeshFromProto(faces));
+    RETURN_IF_ERROR(core::SetGarmentNeighbors(core::Triangulate(mesh.faces), result));
+  }
   RETURN_IF_ERROR(core::ValidateBodyCorrespondence(result, v, static_cast<int>(n)));
   return result;
 }

@@ -49,6 +49,52 @@ TEST(ClothingBasisCodecTest, RoundTripsModelAndCorrespondence) {
   EXPECT_EQ(c.body_vertices, original_correspondence.body_vertices);
 }
 
+core::ClothingModel SmallKernelModel() {
+  core::ClothingModel model;
+  model.method = core::ClothingMethod::kKernel;
+  model.component_count = 2;
+  model.basis = Eigen::MatrixXf::Random(6, 6);  // Mean, 2 linear terms, 3 kernel outputs.
+  model.term_component = {0, 1};
+  model.term_power = {1, 1};
+  model.kernel.length_scale = 0.7f;
+  model.kernel.input_scale = Eigen::Vector2f(25, 50);
+  model.kernel.centers = Eigen::MatrixXf::Random(2, 4);
+  model.kernel.coefficients = Eigen::MatrixXf::Random(3, 4);
+  return model;
+}
+
+TEST(ClothingBasisCodecTest, RoundTripsAKernelModelAndItsFit) {
+  const core::ClothingModel original = SmallKernelModel();
+  ASSERT_TRUE(core::ValidateClothingModel(original).ok());
+  v1::ClothingBasis message;
+  ClothingModelToProto(original, &message);
+  EXPECT_EQ(message.method(), "kernel");
+  EXPECT_EQ(message.kernel().output_count(), 3u);
+  const absl::StatusOr<core::ClothingModel> model = ClothingModelFromProto(message);
+  ASSERT_TRUE(model.ok()) << model.status();
+  EXPECT_EQ(model->basis, original.basis);
+  EXPECT_EQ(model->kernel.centers, original.kernel.centers);
+  EXPECT_EQ(model->kernel.coefficients, original.kernel.coefficients);
+  Eigen::VectorXf features, a, b;
+  const Eigen::Vector2f weights(0.01f, -0.02f);
+  core::FitClothing(original, weights, features, a);
+  core::FitClothing(*model, weights, features, b);
+  EXPECT_EQ(a, b);
+
+  v1::ClothingBasis short_outputs = message;
+  short_outputs.mutable_kernel()->mutable_outputs()->RemoveLast();
+  EXPECT_THAT(ClothingModelFromProto(short_outputs),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "inconsistent kernel correction"));
+  v1::ClothingBasis huge = message;
+  huge.mutable_kernel()->set_center_count(1u << 31);
+  EXPECT_THAT(ClothingModelFromProto(huge),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "inconsistent kernel correction"));
+  v1::ClothingBasis linear_with_kernel = message;
+  linear_with_kernel.set_method("linear");
+  EXPECT_THAT(ClothingModelFromProto(linear_with_kernel),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "inconsistent kernel correction"));
+}
+
 TEST(ClothingBasisCodecTest, RejectsInconsistentMessages) {
   v1::ClothingBasis message;
   ClothingModelToProto(SmallModel(), &message);
@@ -70,6 +116,94 @@ TEST(ClothingBasisCodecTest, RejectsInconsistentMessages) {
   nan_mean.set_mean(0, std::nanf(""));
   EXPECT_THAT(ClothingModelFromProto(nan_mean),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "not finite"));
+}
+
+// A 3-vertex garment (one triangle) whose clean-up has a guard and smooths.
+v1::ClothingBasis GuardedBasis() {
+  core::ClothingModel model;
+  model.method = core::ClothingMethod::kLinear;
+  model.component_count = 2;
+  model.basis = Eigen::MatrixXf::Random(9, 3);
+  model.term_component = {0, 1};
+  model.term_power = {1, 1};
+  core::BodyCorrespondence c;
+  c.offset = 0.0025;
+  c.body_vertices = {3, 7, 9, 12};
+  c.body_mean = Eigen::VectorXf::Random(12);
+  c.body_components = Eigen::MatrixXf::Random(12, 2);
+  c.corners.resize(3, 3);
+  c.corners << 0, 1, 2, 1, 2, 3, 0, 1, 3;
+  c.barycentric = decltype(c.barycentric)::Constant(3, 3, 1.0f / 3);
+  c.guard_body = {3};
+  c.guard_triangles.resize(1, 3);
+  c.guard_triangles << 0, 2, 1;
+  c.smoothing_iterations = 4;
+  v1::ClothingBasis message;
+  message.set_id("cb2");
+  ClothingModelToProto(model, &message);
+  BodyCorrespondenceToProto(c, message.mutable_correspondence());
+  message.mutable_faces()->set_vertex_count(3);
+  message.mutable_faces()->add_face_sizes(3);
+  for (uint32_t i : {0u, 1u, 2u}) message.mutable_faces()->add_face_indices(i);
+  return message;
+}
+
+TEST(ClothingBasisCodecTest, RoundTripsGuardsAndRebuildsTheNeighboursFromTheFaces) {
+  const v1::ClothingBasis message = GuardedBasis();
+  const absl::StatusOr<core::BodyCorrespondence> c = BodyCorrespondenceFromProto(message);
+  ASSERT_TRUE(c.ok()) << c.status();
+  EXPECT_THAT(c->guard_body, ::testing::ElementsAre(3));
+  EXPECT_EQ(c->guard_triangles, Eigen::RowVector3i(0, 2, 1));
+  EXPECT_EQ(c->smoothing_iterations, 4);
+  EXPECT_THAT(c->neighbor_offsets, ::testing::ElementsAre(0, 2, 4, 6));
+  EXPECT_THAT(c->neighbors, ::testing::ElementsAre(1, 2, 0, 2, 0, 1));
+  EXPECT_TRUE(ClothingFitterFromProto(message).ok());
+}
+
+// A basis written before guards and smoothing has neither field: it loads, and its clean-up
+// pushes vertex by vertex as it did.
+TEST(ClothingBasisCodecTest, LoadsACorrespondenceWithoutGuards) {
+  v1::ClothingBasis message = GuardedBasis();
+  message.mutable_correspondence()->clear_guard_body();
+  message.mutable_correspondence()->clear_guard_triangles();
+  message.mutable_correspondence()->clear_smoothing_iterations();
+  message.clear_faces();
+  const absl::StatusOr<core::BodyCorrespondence> c = BodyCorrespondenceFromProto(message);
+  ASSERT_TRUE(c.ok()) << c.status();
+  EXPECT_TRUE(c->guard_body.empty());
+  EXPECT_EQ(c->guard_triangles.rows(), 0);
+  EXPECT_EQ(c->smoothing_iterations, 0);
+  EXPECT_TRUE(c->neighbor_offsets.empty());
+  EXPECT_TRUE(ClothingFitterFromProto(message).ok());
+}
+
+TEST(ClothingBasisCodecTest, RejectsBadGuardsAndSmoothing) {
+  const v1::ClothingBasis message = GuardedBasis();
+  v1::ClothingBasis short_guard = message;
+  short_guard.mutable_correspondence()->mutable_guard_triangles()->RemoveLast();
+  EXPECT_THAT(BodyCorrespondenceFromProto(short_guard),
+              core::StatusIs(absl::StatusCode::kInvalidArgument,
+                             "cb2 has an inconsistent body correspondence"));
+  v1::ClothingBasis far_guard = message;
+  far_guard.mutable_correspondence()->set_guard_body(0, 4);
+  EXPECT_THAT(BodyCorrespondenceFromProto(far_guard),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "guard body point 4"));
+  v1::ClothingBasis far_corner = message;
+  far_corner.mutable_correspondence()->set_guard_triangles(1, 3);
+  EXPECT_THAT(BodyCorrespondenceFromProto(far_corner),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "guard triangle corner"));
+  v1::ClothingBasis too_smooth = message;
+  too_smooth.mutable_correspondence()->set_smoothing_iterations(1u << 31);
+  EXPECT_THAT(BodyCorrespondenceFromProto(too_smooth),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "inconsistent"));
+  v1::ClothingBasis no_faces = message;
+  no_faces.clear_faces();
+  EXPECT_THAT(BodyCorrespondenceFromProto(no_faces),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "has faces for 0 vertices"));
+  v1::ClothingBasis bad_face = message;
+  bad_face.mutable_faces()->set_face_indices(2, 7);
+  EXPECT_EQ(BodyCorrespondenceFromProto(bad_face).status().code(),
+            absl::StatusCode::kInvalidArgument);
 }
 
 }  // namespace

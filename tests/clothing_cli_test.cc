@@ -1,5 +1,6 @@
 // End-to-end tests of `fitbase clothing build`, `fitbase fit` and `fitbase eval` on a shared
 // garment, with a short drape schedule: the figures come from `fitbase eval` with the full one.
+#include <cmath>
 #include <string>
 
 #include "core/file_util.h"
@@ -82,6 +83,18 @@ class ClothingCliTest : public ::testing::Test {
     return worst;
   }
 
+  static double SquaredDifferenceToDrape(const std::string& obj, const std::string& drape_key) {
+    v1::DrapeResult drape;
+    EXPECT_TRUE(proto::ReadMessageFile(*dir_ / "cache" / (drape_key + ".fbd"), &drape).ok());
+    auto fitted = core::ReadGarmentObj(Path(obj));
+    EXPECT_TRUE(fitted.ok());
+    double sum = 0;
+    for (int i = 0; i < drape.positions_size(); ++i) {
+      sum += std::pow(fitted->mesh.positions.data()[i] - drape.positions(i), 2);
+    }
+    return sum;
+  }
+
   static fs::path* dir_;
 };
 
@@ -119,6 +132,45 @@ TEST_F(ClothingCliTest, RebuildGivesIdenticalBytesWithOrWithoutTheCache) {
   const std::string original = *core::ReadFileToString(Path("q.fbc"));
   EXPECT_EQ(*core::ReadFileToString(Path("again.fbc")), original);
   EXPECT_EQ(*core::ReadFileToString(Path("fresh.fbc")), original);
+}
+
+TEST_F(ClothingCliTest, KernelLearnsFromSampledDrapes) {
+  auto build_kernel = [](const std::string& out) {
+    return RunFitbase({"clothing", "build", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
+                       "--size", "M", "--method", "kernel", "--samples", "6", "--sample-seed",
+                       "3", "--homotopy-steps", "2", "--relax-steps", "2", "--cache",
+                       Path("cache"), "--out", Path(out)});
+  };
+  const Result build = build_kernel("k.fbc");
+  ASSERT_EQ(build.exit_code, 0) << build.err;
+  EXPECT_THAT(build.out, HasSubstr("kernel correction:"));
+  ASSERT_EQ(Build("linear", "l2.fbc").exit_code, 0);
+  const v1::ClothingBasis kernel = Clothing("k.fbc");
+  EXPECT_EQ(kernel.method(), "kernel");
+  ASSERT_EQ(kernel.provenance().examples_size(), 5 + 6);
+  EXPECT_EQ(kernel.provenance().examples(5).label(), "sample-0");
+  EXPECT_EQ(kernel.provenance().sampled_drapes(), 6u);
+  EXPECT_EQ(kernel.provenance().sample_seed(), 3u);
+  EXPECT_GE(kernel.kernel().output_count(), 1u);
+  EXPECT_EQ(kernel.kernel().center_count(), 11u);
+  EXPECT_LE(kernel.kernel().loo_rms_mm(), kernel.kernel().linear_rms_mm() * 1.0001);
+  // On the bodies it learned from, ridge regression only shrinks what the linear model misses.
+  double kernel_miss = 0, linear_miss = 0;
+  for (int e = 5; e < 11; ++e) {
+    ASSERT_EQ(FitExample(kernel, e, "k.fbc", "k.obj").exit_code, 0);
+    ASSERT_EQ(FitExample(kernel, e, "l2.fbc", "l.obj").exit_code, 0);
+    const std::string& key = kernel.provenance().examples(e).drape_key();
+    kernel_miss += SquaredDifferenceToDrape("k.obj", key);
+    linear_miss += SquaredDifferenceToDrape("l.obj", key);
+  }
+  EXPECT_LT(kernel_miss, linear_miss);
+  // The same inputs give the same bytes.
+  ASSERT_EQ(build_kernel("k2.fbc").exit_code, 0);
+  EXPECT_EQ(*core::ReadFileToString(Path("k2.fbc")), *core::ReadFileToString(Path("k.fbc")));
+
+  const Result no_samples = Build("kernel", "bad.fbc");
+  EXPECT_NE(no_samples.exit_code, 0);
+  EXPECT_THAT(no_samples.err, HasSubstr("give --samples"));
 }
 
 TEST_F(ClothingCliTest, FitsAnAvatarThroughItsProjection) {
@@ -205,6 +257,10 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
   for (const v1::MethodAccuracy& row : report.overall()) {
     EXPECT_GE(row.penetration_below_0mm(), 0) << row.method();
     EXPECT_LE(row.penetration_below_0mm(), 1) << row.method();
+    // Skin through cloth is a share of the drape's cloth pixels, of all bodies and the worst.
+    EXPECT_GE(row.visible_skin(), 0) << row.method();
+    EXPECT_LE(row.visible_skin(), row.visible_skin_max()) << row.method();
+    EXPECT_LE(row.visible_skin_max(), 1) << row.method();
   }
   EXPECT_THAT(*core::ReadFileToString(Path("eval/report.md")), HasSubstr("| quadratic | yes |"));
   EXPECT_TRUE(fs::exists(Path("eval/female_sportsuit01-M-linear.fbc")));

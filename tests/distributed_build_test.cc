@@ -6,6 +6,7 @@
 
 #include "core/file_util.h"
 #include "core/test_support.h"
+#include "fitbase/v1/clothing_basis.pb.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "services/build/coordinator_server.h"
@@ -168,6 +169,32 @@ TEST_F(DistributedBuildTest, PublishesTheBytesOfTheLocalBuild) {
   // `fitbase clothing build` of the same garment, size, method and schedule (the fixture).
   EXPECT_EQ(stored->bytes, *core::ReadFileToString(SmallCatalogue() / "M-linear.fbc"));
   EXPECT_EQ(done.published(0).clothing_basis_id(), stored->content_id);
+}
+
+TEST_F(DistributedBuildTest, AKernelBuildDrapesTheSampledBodiesToo) {
+  StartWorkers(2);
+  v1::SubmitBuildRequest request = SmallBuild(garment_.id());
+  request.mutable_request()->add_methods("kernel");
+  request.mutable_request()->set_sampled_drapes(3);
+  const v1::Build submitted = Submit(request);
+  EXPECT_EQ(submitted.tasks_total(), 5u + 3u);
+  EXPECT_EQ(submitted.request().sample_seed(), 1u);
+  const v1::Build done = WatchToEnd(*clients_, submitted.build_id());
+  ASSERT_EQ(done.phase(), v1::BUILD_SUCCEEDED) << done.error();
+  ASSERT_EQ(done.published_size(), 2);
+  // The linear basis does not depend on the samples: the bytes of a linear-only build.
+  auto linear = server_->store().GetCurrentClothingBasis(MKey());
+  ASSERT_TRUE(linear.ok()) << linear.status();
+  EXPECT_EQ(linear->bytes, *core::ReadFileToString(SmallCatalogue() / "M-linear.fbc"));
+  storage::ClothingBasisKey kernel_key = MKey();
+  kernel_key.method = "kernel";
+  auto kernel = server_->store().GetCurrentClothingBasis(kernel_key);
+  ASSERT_TRUE(kernel.ok()) << kernel.status();
+  v1::ClothingBasis basis;
+  ASSERT_TRUE(basis.ParseFromString(kernel->bytes));
+  EXPECT_EQ(basis.provenance().sampled_drapes(), 3u);
+  EXPECT_EQ(basis.provenance().examples_size(), 8);
+  EXPECT_GE(basis.kernel().output_count(), 1u);
 }
 
 TEST_F(DistributedBuildTest, ResubmittingAFinishedBuildIsAllCacheHits) {
@@ -408,6 +435,18 @@ TEST_F(DistributedBuildTest, BadInputGetsTheRightCodeAndLeavesTheStoreUnchanged)
   v1::SubmitBuildRequest bad_method = SmallBuild(garment_.id());
   bad_method.mutable_request()->set_methods(0, "cubic");
   EXPECT_EQ(clients_->coordinator->SubmitBuild(Call(TestKeys::kAdmin).get(), bad_method, &ignored)
+                .error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+  v1::SubmitBuildRequest kernel_unsampled = SmallBuild(garment_.id());
+  kernel_unsampled.mutable_request()->set_methods(0, "kernel");
+  EXPECT_EQ(clients_->coordinator
+                ->SubmitBuild(Call(TestKeys::kAdmin).get(), kernel_unsampled, &ignored)
+                .error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+  v1::SubmitBuildRequest too_many_samples = kernel_unsampled;
+  too_many_samples.mutable_request()->set_sampled_drapes(1u << 30);
+  EXPECT_EQ(clients_->coordinator
+                ->SubmitBuild(Call(TestKeys::kAdmin).get(), too_many_samples, &ignored)
                 .error_code(),
             grpc::StatusCode::INVALID_ARGUMENT);
   v1::SubmitBuildRequest other_basis = SmallBuild(garment_.id());

@@ -291,6 +291,41 @@ TEST_F(FitServiceTest, ANewlyPublishedVersionServesWithoutARestart) {
   EXPECT_EQ(second.clothing_basis_id(), "moved-by-a-rebuild");
 }
 
+TEST_F(FitServiceTest, AnUnnamedMethodServesTheKernelBasisOnceItIsPublished) {
+  const v1::AvatarProjection projection = Project(1);
+  v1::FittedGarment linear;
+  ASSERT_TRUE(stub_->FitGarment(Call(TestKeys::kCustomer).get(), FitRequest(projection.weights()),
+                                &linear)
+                  .ok());
+  EXPECT_EQ(linear.method(), "linear");
+  // A kernel basis whose correction has no outputs fits exactly as the linear one.
+  storage::ClothingBasisKey key{"acme", garment_.id(), "M", garment_.avatar_basis_id(), "linear"};
+  v1::ClothingBasis kernel;
+  ASSERT_TRUE(kernel.ParseFromString(coordinator_->store().GetCurrentClothingBasis(key)->bytes));
+  kernel.set_method("kernel");
+  kernel.set_id("kernel-basis");
+  kernel.mutable_kernel()->set_length_scale(1);
+  kernel.mutable_kernel()->mutable_input_scale()->Resize(
+      static_cast<int>(kernel.component_count()), 1.0f);
+  key.method = "kernel";
+  ASSERT_TRUE(coordinator_->store()
+                  .PublishClothingBasis(key, kernel.id(), proto::SerializeDeterministically(kernel))
+                  .ok());
+  clock_.Advance(absl::Seconds(2));
+  v1::FittedGarment served;
+  ASSERT_TRUE(stub_->FitGarment(Call(TestKeys::kCustomer).get(), FitRequest(projection.weights()),
+                                &served)
+                  .ok());
+  EXPECT_EQ(served.method(), "kernel");
+  EXPECT_EQ(served.clothing_basis_id(), "kernel-basis");
+  EXPECT_EQ(served.positions().SerializeAsString(), linear.positions().SerializeAsString());
+  v1::FitGarmentRequest named = FitRequest(projection.weights());
+  named.set_method("linear");
+  v1::FittedGarment asked;
+  ASSERT_TRUE(stub_->FitGarment(Call(TestKeys::kCustomer).get(), named, &asked).ok());
+  EXPECT_EQ(asked.method(), "linear");
+}
+
 TEST_F(FitServiceTest, KeysTenantsAndRolesAreEnforced) {
   const v1::AvatarProjection projection = Project(1);
   const v1::FitGarmentRequest request = FitRequest(projection.weights());

@@ -38,6 +38,19 @@ absl::Status ResolveRequest(v1::BuildRequest& request, const v1::Garment& garmen
     return absl::InvalidArgumentError(absl::StrCat("example_scale ", request.example_scale(),
                                                    " is outside (0, ", kMaxExampleScale, "]"));
   }
+  const bool kernel =
+      std::find(request.methods().begin(), request.methods().end(), "kernel") !=
+      request.methods().end();
+  if (kernel && request.sampled_drapes() == 0) {
+    return absl::InvalidArgumentError(
+        "the kernel method learns from drapes of sampled bodies; set sampled_drapes");
+  }
+  if (!kernel) request.set_sampled_drapes(0);
+  if (request.sampled_drapes() > static_cast<uint32_t>(pipeline::kMaxSampledDrapes)) {
+    return absl::InvalidArgumentError(absl::StrCat("sampled_drapes ", request.sampled_drapes(),
+                                                   " is above ", pipeline::kMaxSampledDrapes));
+  }
+  if (request.sample_seed() == 0) request.set_sample_seed(1);
   const workers::DrapeSchedule defaults;
   if (request.homotopy_steps() == 0) request.set_homotopy_steps(defaults.homotopy_steps);
   if (request.relax_steps() == 0) request.set_relax_steps(defaults.relax_steps);
@@ -83,6 +96,8 @@ absl::StatusOr<std::unique_ptr<const BuildPlan>> PlanBuild(const storage::AssetS
         .garment = &plan->garment,
         .size = size,
         .example_scale = plan->request.example_scale(),
+        .sampled_drapes = static_cast<int>(plan->request.sampled_drapes()),
+        .sample_seed = plan->request.sample_seed(),
         .settings = {},
         .schedule = {.homotopy_steps = static_cast<int>(plan->request.homotopy_steps()),
                      .relax_steps = static_cast<int>(plan->request.relax_steps())}};

@@ -73,19 +73,26 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
                                         absl::string_view method_name, bool cleanup,
                                         Eigen::VectorXf& positions) {
   SizeFitted out;
-  out.method = method_name.empty() ? "linear" : std::string(method_name);
-  RETURN_IF_ERROR(core::ParseClothingMethod(out.method).status());
+  if (!method_name.empty()) RETURN_IF_ERROR(core::ParseClothingMethod(method_name).status());
   const auto& sizes = garment.topology.sizes();
   if (std::find(sizes.begin(), sizes.end(), size) == sizes.end()) {
     return absl::NotFoundError(absl::StrCat("garment ", garment_id, " has no size '", size,
                                             "'; it has ", absl::StrJoin(sizes, ",")));
   }
-  absl::StatusOr<std::shared_ptr<const ServedClothing>> found =
-      catalog.Clothing({std::string(tenant), std::string(garment_id), std::string(size),
-                        garment.avatar_basis_id, out.method});
+  // Unnamed, the method is the most accurate one built: kernel, else linear (older catalogues).
+  const std::vector<std::string> methods =
+      method_name.empty() ? std::vector<std::string>{"kernel", "linear"}
+                          : std::vector<std::string>{std::string(method_name)};
+  absl::StatusOr<std::shared_ptr<const ServedClothing>> found;
+  for (const std::string& method : methods) {
+    out.method = method;
+    found = catalog.Clothing({std::string(tenant), std::string(garment_id), std::string(size),
+                              garment.avatar_basis_id, method});
+    if (!absl::IsNotFound(found.status())) break;
+  }
   if (absl::IsNotFound(found.status())) {
     return absl::NotFoundError(absl::StrCat("garment ", garment_id, " size ", size,
-                                            " has no published ", out.method,
+                                            " has no published ", absl::StrJoin(methods, " or "),
                                             " clothing basis; build it first"));
   }
   if (!found.ok()) return found.status();
@@ -508,9 +515,13 @@ grpc::ServerUnaryReactor* FitService::ListShopGarments(grpc::CallbackServerConte
         if (basis_id == garment->avatar_basis_id) summary.set_population(population);
       }
       for (const std::string& size : garment->topology.sizes()) {
-        absl::StatusOr<std::shared_ptr<const ServedClothing>> clothing = catalog_->Clothing(
-            {principal.tenant, id, size, garment->avatar_basis_id, "linear"});
-        if (clothing.ok()) summary.add_sizes(size);
+        for (const char* method : {"kernel", "linear"}) {
+          if (catalog_->Clothing({principal.tenant, id, size, garment->avatar_basis_id, method})
+                  .ok()) {
+            summary.add_sizes(size);
+            break;
+          }
+        }
       }
       // A garment a customer can be fitted to: served, on a current avatar basis.
       if (summary.sizes_size() > 0 && !summary.population().empty()) {

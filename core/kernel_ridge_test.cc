@@ -1,0 +1,99 @@
+#include "core/kernel_ridge.h"
+
+#include <cmath>
+
+#include "core/random.h"
+#include "core/test_support.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+
+namespace fitbase::core {
+namespace {
+
+// y = sin(x0) + 0.5 x1^2, a smooth non-linear function, sampled at M points in [-2, 2]^2.
+void Sample(int m, uint64_t seed, Eigen::MatrixXd& inputs, Eigen::MatrixXd& targets) {
+  Random random(seed, 0);
+  inputs.resize(2, m);
+  targets.resize(m, 1);
+  for (int i = 0; i < m; ++i) {
+    inputs(0, i) = random.Uniform(-2, 2);
+    inputs(1, i) = random.Uniform(-2, 2);
+    targets(i, 0) = std::sin(inputs(0, i)) + 0.5 * inputs(1, i) * inputs(1, i);
+  }
+}
+
+TEST(KernelRidgeTest, LearnsASmoothFunctionAndPredictsHeldOutPoints) {
+  Eigen::MatrixXd inputs, targets, test_inputs, test_targets;
+  Sample(200, 1, inputs, targets);
+  Sample(50, 2, test_inputs, test_targets);
+  const absl::StatusOr<KernelRidge> model_or = FitKernelRidge(inputs, targets);
+  ASSERT_TRUE(model_or.ok()) << model_or.status();
+  const KernelRidge& model = *model_or;
+  double squared = 0;
+  for (int i = 0; i < 50; ++i) {
+    squared += std::pow(PredictKernelRidge(model, test_inputs.col(i))(0) - test_targets(i, 0), 2);
+  }
+  const double rms = std::sqrt(squared / 50);
+  EXPECT_LT(rms, 0.05 * model.train_rms);
+  // Leave-one-out is an honest estimate of the held-out error: the same order.
+  EXPECT_LT(model.loo_rms, 3 * rms + 0.01);
+  EXPECT_GT(model.loo_rms, rms / 3);
+}
+
+TEST(KernelRidgeTest, FallsToZeroFarFromTheData) {
+  Eigen::MatrixXd inputs, targets;
+  Sample(100, 3, inputs, targets);
+  const absl::StatusOr<KernelRidge> model_or = FitKernelRidge(inputs, targets);
+  ASSERT_TRUE(model_or.ok()) << model_or.status();
+  const KernelRidge& model = *model_or;
+  EXPECT_NEAR(PredictKernelRidge(model, Eigen::Vector2d(50, 50))(0), 0.0, 1e-9);
+}
+
+TEST(KernelRidgeTest, PicksTheLengthScaleByLeaveOneOut) {
+  Eigen::MatrixXd inputs, targets;
+  Sample(150, 4, inputs, targets);
+  KernelRidgeOptions narrow_only;
+  narrow_only.length_scale_factors = {0.01};
+  const absl::StatusOr<KernelRidge> narrow_or = FitKernelRidge(inputs, targets, narrow_only);
+  ASSERT_TRUE(narrow_or.ok()) << narrow_or.status();
+  const KernelRidge& narrow = *narrow_or;
+  const absl::StatusOr<KernelRidge> chosen_or = FitKernelRidge(inputs, targets);
+  ASSERT_TRUE(chosen_or.ok()) << chosen_or.status();
+  const KernelRidge& chosen = *chosen_or;
+  // A kernel far narrower than the points' spacing cannot predict a left-out point.
+  EXPECT_GT(narrow.loo_rms, 0.9 * narrow.train_rms);
+  EXPECT_LT(chosen.loo_rms, 0.2 * narrow.loo_rms);
+}
+
+TEST(KernelRidgeTest, IsDeterministic) {
+  Eigen::MatrixXd inputs, targets;
+  Sample(80, 5, inputs, targets);
+  const absl::StatusOr<KernelRidge> a_or = FitKernelRidge(inputs, targets);
+  ASSERT_TRUE(a_or.ok()) << a_or.status();
+  const KernelRidge& a = *a_or;
+  const absl::StatusOr<KernelRidge> b_or = FitKernelRidge(inputs, targets);
+  ASSERT_TRUE(b_or.ok()) << b_or.status();
+  const KernelRidge& b = *b_or;
+  EXPECT_EQ(a.length_scale, b.length_scale);
+  EXPECT_EQ(a.ridge, b.ridge);
+  EXPECT_TRUE(a.coefficients == b.coefficients);
+}
+
+TEST(KernelRidgeTest, RejectsBadInput) {
+  const Eigen::MatrixXd inputs = Eigen::MatrixXd::Random(2, 10);
+  EXPECT_THAT(FitKernelRidge(inputs, Eigen::MatrixXd::Zero(9, 1)),
+              StatusIs(absl::StatusCode::kInvalidArgument, "targets M x C"));
+  Eigen::MatrixXd bad = inputs;
+  bad(0, 3) = std::nan("");
+  EXPECT_THAT(FitKernelRidge(bad, Eigen::MatrixXd::Zero(10, 1)),
+              StatusIs(absl::StatusCode::kInvalidArgument, "not finite"));
+  EXPECT_THAT(FitKernelRidge(Eigen::MatrixXd::Ones(2, 10), Eigen::MatrixXd::Zero(10, 1)),
+              StatusIs(absl::StatusCode::kInvalidArgument, "all equal"));
+  KernelRidgeOptions options;
+  options.ridges = {0.0};
+  EXPECT_THAT(FitKernelRidge(inputs, Eigen::MatrixXd::Zero(10, 1), options),
+              StatusIs(absl::StatusCode::kInvalidArgument, "ridge 0"));
+}
+
+}  // namespace
+}  // namespace fitbase::core

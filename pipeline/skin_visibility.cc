@@ -1,0 +1,77 @@
+#include "pipeline/skin_visibility.h"
+
+#include <vector>
+
+#include "Eigen/Geometry"
+#include "absl/strings/str_cat.h"
+#include "core/mesh_render.h"
+#include "core/status_macros.h"
+
+namespace fitbase::pipeline {
+namespace {
+
+constexpr int32_t kBodyLayer = 0;
+constexpr int32_t kGarmentLayer = 1;
+
+core::Mesh TriangleMesh(const core::Positions& positions, const core::Triangles& triangles) {
+  core::Mesh mesh;
+  mesh.positions = positions;
+  mesh.faces.sizes.assign(static_cast<size_t>(triangles.rows()), 3);
+  mesh.faces.indices.assign(triangles.data(), triangles.data() + triangles.size());
+  return mesh;
+}
+
+absl::Status CheckScene(const DressedBody& scene, absl::string_view name) {
+  if (scene.body == nullptr || scene.body_triangles == nullptr || scene.garment == nullptr ||
+      scene.garment_triangles == nullptr) {
+    return absl::InvalidArgumentError(absl::StrCat("the ", name, " scene misses a mesh"));
+  }
+  if (scene.body->rows() == 0 || scene.garment->rows() == 0 || scene.body_triangles->rows() == 0 ||
+      scene.garment_triangles->rows() == 0) {
+    return absl::InvalidArgumentError(absl::StrCat("the ", name, " scene has an empty mesh"));
+  }
+  if (!scene.body->allFinite() || !scene.garment->allFinite()) {
+    return absl::InvalidArgumentError(absl::StrCat("the ", name, " scene is not finite"));
+  }
+  return absl::OkStatus();
+}
+
+void Extend(const core::Positions& positions, Eigen::AlignedBox3d& box) {
+  box.extend(positions.colwise().minCoeff().transpose());
+  box.extend(positions.colwise().maxCoeff().transpose());
+}
+
+}  // namespace
+
+absl::StatusOr<SkinVisibility> MeasureVisibleSkin(const DressedBody& reference,
+                                                  const DressedBody& candidate, int height) {
+  RETURN_IF_ERROR(CheckScene(reference, "reference"));
+  RETURN_IF_ERROR(CheckScene(candidate, "candidate"));
+  Eigen::AlignedBox3d frame;
+  for (const DressedBody* scene : {&reference, &candidate}) {
+    Extend(*scene->body, frame);
+    Extend(*scene->garment, frame);
+  }
+  const core::RenderOptions options{.height = height, .frame = frame};
+  std::vector<core::RenderedImage> images;
+  for (const DressedBody* scene : {&reference, &candidate}) {
+    // The body is layer 0 and the garment layer 1, drawn last so that where they touch (equal
+    // depth) the garment shows, as in the drape.
+    std::vector<core::RenderLayer> layers(2);
+    layers[kBodyLayer].mesh = TriangleMesh(*scene->body, *scene->body_triangles);
+    layers[kGarmentLayer].mesh = TriangleMesh(*scene->garment, *scene->garment_triangles);
+    ASSIGN_OR_RETURN(core::RenderedImage image, core::RenderFrontAndSide(layers, options));
+    images.push_back(std::move(image));
+  }
+  SkinVisibility result;
+  const std::vector<int32_t>& cloth = images[0].layer_index;
+  const std::vector<int32_t>& shown = images[1].layer_index;
+  for (size_t i = 0; i < cloth.size(); ++i) {
+    if (cloth[i] != kGarmentLayer) continue;
+    ++result.cloth_pixels;
+    result.skin_pixels += shown[i] == kBodyLayer;
+  }
+  return result;
+}
+
+}  // namespace fitbase::pipeline

@@ -1,0 +1,46 @@
+#ifndef FITBASE_PIPELINE_SKIN_VISIBILITY_H_
+#define FITBASE_PIPELINE_SKIN_VISIBILITY_H_
+
+#include <cstdint>
+
+#include "absl/status/statusor.h"
+#include "core/mesh.h"
+
+namespace fitbase::pipeline {
+
+// The front and side pictures the visible-skin figure is judged on: about a shopper's screen.
+inline constexpr int kSkinViewHeight = 600;
+
+// Skin through cloth, as a shopper sees it: pixels of the front and side views (orthographic,
+// z-buffered, one framing for both scenes) where the reference shows the garment and the
+// candidate shows the body, over the pixels where the reference shows the garment.
+struct SkinVisibility {
+  int64_t cloth_pixels = 0;  // The reference's garment pixels.
+  int64_t skin_pixels = 0;   // Of those, the candidate's body pixels.
+
+  double share() const {
+    return cloth_pixels > 0 ? static_cast<double>(skin_pixels) / static_cast<double>(cloth_pixels)
+                            : 0.0;
+  }
+};
+
+// A garment worn on a body: positions (m, +Y up, +Z front) and their triangles.
+struct DressedBody {
+  const core::Positions* body = nullptr;  // B x 3.
+  const core::Triangles* body_triangles = nullptr;
+  const core::Positions* garment = nullptr;  // V x 3.
+  const core::Triangles* garment_triangles = nullptr;
+};
+
+// reference: typically the drape on the customer's real body; candidate: a fast fit on the body
+// it is shown with (for a clothing basis, the body of the weights). Both are framed on the
+// union bounding box of the four meshes, at `height` pixels. Errors (INVALID_ARGUMENT): a
+// missing or empty mesh, non-finite positions, a triangle index out of range, a height outside
+// [16, 16384].
+absl::StatusOr<SkinVisibility> MeasureVisibleSkin(const DressedBody& reference,
+                                                  const DressedBody& candidate,
+                                                  int height = kSkinViewHeight);
+
+}  // namespace fitbase::pipeline
+
+#endif  // FITBASE_PIPELINE_SKIN_VISIBILITY_H_

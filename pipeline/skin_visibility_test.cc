@@ -1,0 +1,103 @@
+#include "pipeline/skin_visibility.h"
+
+#include <cmath>
+
+#include "absl/status/status.h"
+#include "gtest/gtest.h"
+
+namespace fitbase::pipeline {
+namespace {
+
+// A body-like box 0.4 m wide, 1 m tall, 0.2 m deep: 8 corners, 12 outward triangles.
+struct Box {
+  core::Positions positions;
+  core::Triangles triangles;
+};
+
+Box BodyBox() {
+  Box box;
+  box.positions.resize(8, 3);
+  for (int i = 0; i < 8; ++i) {
+    box.positions.row(i) << ((i & 1) ? 0.2 : -0.2), ((i & 2) ? 1.5 : 0.5), ((i & 4) ? 0.1 : -0.1);
+  }
+  box.triangles.resize(12, 3);
+  box.triangles << 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 2, 3,
+      0, 3, 1, 4, 5, 7, 4, 7, 6;
+  return box;
+}
+
+// A 0.2 m square patch before the box's front face, as two unconnected halves (left x < 0,
+// right x > 0) at depths z_left and z_right.
+core::Positions Patch(double z_left, double z_right) {
+  core::Positions p(8, 3);
+  p << -0.1, 0.9, z_left, 0.0, 0.9, z_left, 0.0, 1.1, z_left, -0.1, 1.1, z_left,  //
+      0.0, 0.9, z_right, 0.1, 0.9, z_right, 0.1, 1.1, z_right, 0.0, 1.1, z_right;
+  return p;
+}
+
+core::Triangles PatchTriangles() {
+  core::Triangles t(4, 3);
+  t << 0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7;
+  return t;
+}
+
+TEST(SkinVisibilityTest, ADrapeAgainstItselfShowsNoSkin) {
+  const Box body = BodyBox();
+  const core::Positions garment = Patch(0.11, 0.11);
+  const core::Triangles triangles = PatchTriangles();
+  const DressedBody drape{&body.positions, &body.triangles, &garment, &triangles};
+  const absl::StatusOr<SkinVisibility> skin = MeasureVisibleSkin(drape, drape);
+  ASSERT_TRUE(skin.ok()) << skin.status();
+  EXPECT_GT(skin->cloth_pixels, 1000);
+  EXPECT_EQ(skin->skin_pixels, 0);
+  EXPECT_EQ(skin->share(), 0.0);
+}
+
+TEST(SkinVisibilityTest, CountsTheClothThatSinksUnderTheSkin) {
+  const Box body = BodyBox();
+  const core::Positions draped = Patch(0.11, 0.11);
+  // The right half 1 cm inside the body: the front view shows skin there. The patch is edge-on
+  // in the side view, so only the front view counts.
+  const core::Positions fitted = Patch(0.11, 0.09);
+  const core::Triangles triangles = PatchTriangles();
+  const DressedBody drape{&body.positions, &body.triangles, &draped, &triangles};
+  const DressedBody fit{&body.positions, &body.triangles, &fitted, &triangles};
+  const absl::StatusOr<SkinVisibility> skin = MeasureVisibleSkin(drape, fit);
+  ASSERT_TRUE(skin.ok()) << skin.status();
+  EXPECT_NEAR(skin->share(), 0.5, 0.02);
+  // The frame is the union of both scenes: 1.0 m tall, at 600 - 2 x 30 px.
+  const double side_px = 0.2 * (600 - 60) / 1.0;
+  EXPECT_NEAR(skin->cloth_pixels, side_px * side_px, 0.03 * side_px * side_px);
+  // Against the fit as reference, the sunk half shows no cloth at all.
+  const absl::StatusOr<SkinVisibility> reverse = MeasureVisibleSkin(fit, drape);
+  ASSERT_TRUE(reverse.ok()) << reverse.status();
+  EXPECT_EQ(reverse->skin_pixels, 0);
+  EXPECT_NEAR(reverse->cloth_pixels, 0.5 * skin->cloth_pixels, 0.03 * skin->cloth_pixels);
+}
+
+TEST(SkinVisibilityTest, RejectsMissingEmptyOrBrokenMeshes) {
+  const Box body = BodyBox();
+  const core::Positions garment = Patch(0.11, 0.11);
+  core::Triangles triangles = PatchTriangles();
+  const DressedBody good{&body.positions, &body.triangles, &garment, &triangles};
+  DressedBody missing = good;
+  missing.garment = nullptr;
+  EXPECT_EQ(MeasureVisibleSkin(good, missing).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  const core::Positions empty;
+  DressedBody hollow = good;
+  hollow.garment = &empty;
+  EXPECT_EQ(MeasureVisibleSkin(hollow, good).status().code(), absl::StatusCode::kInvalidArgument);
+  core::Positions nan = garment;
+  nan(0, 0) = std::nan("");
+  DressedBody broken = good;
+  broken.garment = &nan;
+  EXPECT_EQ(MeasureVisibleSkin(good, broken).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(MeasureVisibleSkin(good, good, 8).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  triangles(0, 0) = 8;
+  EXPECT_EQ(MeasureVisibleSkin(good, good).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace fitbase::pipeline
