@@ -91,7 +91,11 @@ absl::Status WriteBuildSeeds(const std::filesystem::path& dir, const std::string
   request.add_sizes(garment.sizes(0).name());
   request.set_avatar_basis_id(garment.avatar_basis_id());
   request.set_example_scale(0.5);
-  return WriteSeed(dir, "build-one-size", proto::SerializeDeterministically(build));
+  RETURN_IF_ERROR(WriteSeed(dir, "build-one-size", proto::SerializeDeterministically(build)));
+  request.add_methods("kernel");
+  request.set_sampled_drapes(3);
+  request.set_sample_seed(7);
+  return WriteSeed(dir, "build-kernel", proto::SerializeDeterministically(build));
 }
 
 absl::Status Run(const std::vector<std::string>& args) {

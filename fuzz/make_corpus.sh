@@ -46,6 +46,8 @@ run clothing build --basis "$work/b.fbb" --garment "$work/g.fbg" --size M --meth
   --homotopy-steps 2 --relax-steps 2 --cache "$work/drapes" --out "$work/M-linear.fbc"
 run clothing build --basis "$work/b.fbb" --garment "$work/g.fbg" --size M --method quadratic \
   --homotopy-steps 2 --relax-steps 2 --cache "$work/drapes" --out "$work/M-quadratic.fbc"
+run clothing build --basis "$work/b.fbb" --garment "$work/g.fbg" --size M --method kernel \
+  --samples 4 --homotopy-steps 2 --relax-steps 2 --cache "$work/drapes" --out "$work/M-kernel.fbc"
 avatar="$work/pop/avatar-00000.obj"
 run avatar --params '{}' --out "$work/default.obj"
 
@@ -109,7 +111,7 @@ dir=$(seed_dir garment)
 cp "$work/g.fbg" "$dir/g.fbg"
 
 dir=$(seed_dir clothing_basis)
-cp "$work/M-linear.fbc" "$work/M-quadratic.fbc" "$dir/"
+cp "$work/M-linear.fbc" "$work/M-quadratic.fbc" "$work/M-kernel.fbc" "$dir/"
 
 dir=$(seed_dir drape_result)
 cp "$work"/drapes/*.fbd "$dir/"
