@@ -13,14 +13,19 @@
 //     garment and R rounds of smoothing over a grid garment's edges (the default is
 //     core::kSmoothingIterations); counter `moved` is the share of vertices the clean-up moved
 //     (random geometry moves every vertex, the most work a fit can take);
-//   - BM_ProjectAvatar/N: a 13,380-vertex avatar projected onto N components.
-// Usage: fitbase_fit_bench [--benchmark_filter=...]
+//   - BM_ProjectAvatar/N: a 13,380-vertex avatar projected onto N components;
+//   - BM_FitStoredBasis/0..3 (--clothing=PATH.fbc): a real garment size, the model alone, with
+//     the clean-up, the clean-up without guards, and without smoothing.
+// Usage: fitbase_fit_bench [--benchmark_filter=...] [--clothing=PATH.fbc]
 #include <random>
 
 #include "benchmark/benchmark.h"
 #include "core/clothing_fitter.h"
 #include "core/clothing_model.h"
 #include "core/pca_basis.h"
+#include "fitbase/v1/clothing_basis.pb.h"
+#include "proto/clothing_basis_codec.h"
+#include "proto/message_file.h"
 
 namespace fitbase {
 namespace {
@@ -206,6 +211,45 @@ void BM_FitCleanup(benchmark::State& state) {
   state.counters["moved"] = static_cast<double>(moved) / v;
 }
 
+// --clothing=PATH: a stored clothing basis (.fbc), fitted at the weights of its last training
+// body (a sampled body for kernel), so the clean-up meets a real garment on a real body.
+std::string g_clothing_path;
+
+// Arg 0: the model alone; 1: with the clean-up; 2: the clean-up without its triangle guards;
+// 3: the clean-up without smoothing.
+void BM_FitStoredBasis(benchmark::State& state) {
+  v1::ClothingBasis message;
+  if (!proto::ReadMessageFile(g_clothing_path, &message).ok()) {
+    state.SkipWithError("cannot read --clothing");
+    return;
+  }
+  absl::StatusOr<core::ClothingFitter> loaded = proto::ClothingFitterFromProto(message);
+  if (!loaded.ok() || message.provenance().examples().empty()) {
+    state.SkipWithError("not a usable clothing basis");
+    return;
+  }
+  core::BodyCorrespondence correspondence = loaded->correspondence();
+  if (state.range(0) == 2) {
+    correspondence.guard_body.clear();
+    correspondence.guard_triangles.resize(0, 3);
+  } else if (state.range(0) == 3) {
+    correspondence.smoothing_iterations = 0;
+  }
+  const core::ClothingFitter fitter =
+      *core::ClothingFitter::Create(loaded->model(), std::move(correspondence));
+  const auto& example = *message.provenance().examples().rbegin();
+  const Eigen::VectorXf w =
+      Eigen::Map<const Eigen::VectorXd>(example.weights().data(), example.weights_size())
+          .cast<float>();
+  core::FitScratch scratch;
+  Eigen::VectorXf out;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(fitter.Fit(w, state.range(0) > 0, scratch, out));
+  }
+  state.counters["vertices"] = static_cast<double>(message.vertex_count());
+  state.counters["guards"] = static_cast<double>(fitter.correspondence().guard_body.size());
+}
+
 void BM_ProjectAvatar(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   core::PcaBasis basis;
@@ -260,6 +304,15 @@ BENCHMARK(BM_ProjectAvatar)->Arg(10)->Arg(30)->Arg(60)->Unit(benchmark::kMicrose
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.rfind("--clothing=", 0) == 0) fitbase::g_clothing_path = arg.substr(11);
+  }
+  if (!fitbase::g_clothing_path.empty()) {
+    benchmark::RegisterBenchmark("BM_FitStoredBasis", fitbase::BM_FitStoredBasis)
+        ->DenseRange(0, 3)
+        ->Unit(benchmark::kMicrosecond);
+  }
   fitbase::LimitCapture reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
   benchmark::Shutdown();
