@@ -31,6 +31,18 @@ struct GuardCount {
   bool flip;
 };
 
+// One more sighting of `first.triangle`: its count goes up, or it is kept as first seen.
+template <typename Count>
+void CountTriangle(std::vector<Count>& seen, const Count& first) {
+  auto it = std::find_if(seen.begin(), seen.end(),
+                         [&](const Count& c) { return c.triangle == first.triangle; });
+  if (it != seen.end()) {
+    ++it->count;
+  } else {
+    seen.push_back(first);
+  }
+}
+
 // A body point this far (m) outside a garment triangle's plane is not under it: a fit that far
 // off has the triangle in another place of the body, and its plane says nothing there.
 constexpr float kGuardDepth = static_cast<float>(kGuardReach);
@@ -73,15 +85,7 @@ void CountGuards(const Positions& body, const Triangles& body_triangles,
     const Eigen::RowVector3i t = garment.triangles().row(closest.triangle);
     const Positions& g = garment.positions();
     const Eigen::Vector3d face = (g.row(t[1]) - g.row(t[0])).cross(g.row(t[2]) - g.row(t[0]));
-    std::vector<GuardCount>& guards = seen[b];
-    auto it = std::find_if(guards.begin(), guards.end(), [&](const GuardCount& c) {
-      return c.triangle == closest.triangle;
-    });
-    if (it != guards.end()) {
-      ++it->count;
-    } else {
-      guards.push_back({closest.triangle, 1, face.dot(n) < 0});
-    }
+    CountTriangle(seen[b], GuardCount{closest.triangle, 1, face.dot(n) < 0});
   }
 }
 
@@ -192,15 +196,8 @@ absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(
       const SurfacePoint closest = bvh.Closest(examples[e].garment->row(v).transpose(),
                                                std::numeric_limits<double>::infinity());
       if (!closest.found) return absl::InternalError("no closest body point for a garment vertex");
-      std::vector<AnchorCount>& anchors = seen[v];
-      auto it = std::find_if(anchors.begin(), anchors.end(), [&](const AnchorCount& a) {
-        return a.triangle == closest.triangle;
-      });
-      if (it != anchors.end()) {
-        ++it->count;
-      } else {
-        anchors.push_back({closest.triangle, 1, static_cast<int>(e), closest.barycentric.cast<float>()});
-      }
+      CountTriangle(seen[v], AnchorCount{closest.triangle, 1, static_cast<int>(e),
+                                         closest.barycentric.cast<float>()});
     }
   }
 

@@ -22,13 +22,18 @@ void Sample(int m, uint64_t seed, Eigen::MatrixXd& inputs, Eigen::MatrixXd& targ
   }
 }
 
+KernelRidge Fitted(const Eigen::MatrixXd& inputs, const Eigen::MatrixXd& targets,
+                   const KernelRidgeOptions& options = {}) {
+  absl::StatusOr<KernelRidge> model = FitKernelRidge(inputs, targets, options);
+  EXPECT_TRUE(model.ok()) << model.status();
+  return model.ok() ? *std::move(model) : KernelRidge{};
+}
+
 TEST(KernelRidgeTest, LearnsASmoothFunctionAndPredictsHeldOutPoints) {
   Eigen::MatrixXd inputs, targets, test_inputs, test_targets;
   Sample(200, 1, inputs, targets);
   Sample(50, 2, test_inputs, test_targets);
-  const absl::StatusOr<KernelRidge> model_or = FitKernelRidge(inputs, targets);
-  ASSERT_TRUE(model_or.ok()) << model_or.status();
-  const KernelRidge& model = *model_or;
+  const KernelRidge model = Fitted(inputs, targets);
   double squared = 0;
   for (int i = 0; i < 50; ++i) {
     squared += std::pow(PredictKernelRidge(model, test_inputs.col(i))(0) - test_targets(i, 0), 2);
@@ -43,9 +48,7 @@ TEST(KernelRidgeTest, LearnsASmoothFunctionAndPredictsHeldOutPoints) {
 TEST(KernelRidgeTest, FallsToZeroFarFromTheData) {
   Eigen::MatrixXd inputs, targets;
   Sample(100, 3, inputs, targets);
-  const absl::StatusOr<KernelRidge> model_or = FitKernelRidge(inputs, targets);
-  ASSERT_TRUE(model_or.ok()) << model_or.status();
-  const KernelRidge& model = *model_or;
+  const KernelRidge model = Fitted(inputs, targets);
   EXPECT_NEAR(PredictKernelRidge(model, Eigen::Vector2d(50, 50))(0), 0.0, 1e-9);
 }
 
@@ -54,12 +57,8 @@ TEST(KernelRidgeTest, PicksTheLengthScaleByLeaveOneOut) {
   Sample(150, 4, inputs, targets);
   KernelRidgeOptions narrow_only;
   narrow_only.length_scale_factors = {0.01};
-  const absl::StatusOr<KernelRidge> narrow_or = FitKernelRidge(inputs, targets, narrow_only);
-  ASSERT_TRUE(narrow_or.ok()) << narrow_or.status();
-  const KernelRidge& narrow = *narrow_or;
-  const absl::StatusOr<KernelRidge> chosen_or = FitKernelRidge(inputs, targets);
-  ASSERT_TRUE(chosen_or.ok()) << chosen_or.status();
-  const KernelRidge& chosen = *chosen_or;
+  const KernelRidge narrow = Fitted(inputs, targets, narrow_only);
+  const KernelRidge chosen = Fitted(inputs, targets);
   // A kernel far narrower than the points' spacing cannot predict a left-out point.
   EXPECT_GT(narrow.loo_rms, 0.9 * narrow.train_rms);
   EXPECT_LT(chosen.loo_rms, 0.2 * narrow.loo_rms);
@@ -68,12 +67,8 @@ TEST(KernelRidgeTest, PicksTheLengthScaleByLeaveOneOut) {
 TEST(KernelRidgeTest, IsDeterministic) {
   Eigen::MatrixXd inputs, targets;
   Sample(80, 5, inputs, targets);
-  const absl::StatusOr<KernelRidge> a_or = FitKernelRidge(inputs, targets);
-  ASSERT_TRUE(a_or.ok()) << a_or.status();
-  const KernelRidge& a = *a_or;
-  const absl::StatusOr<KernelRidge> b_or = FitKernelRidge(inputs, targets);
-  ASSERT_TRUE(b_or.ok()) << b_or.status();
-  const KernelRidge& b = *b_or;
+  const KernelRidge a = Fitted(inputs, targets);
+  const KernelRidge b = Fitted(inputs, targets);
   EXPECT_EQ(a.length_scale, b.length_scale);
   EXPECT_EQ(a.ridge, b.ridge);
   EXPECT_TRUE(a.coefficients == b.coefficients);

@@ -71,28 +71,21 @@ class ClothingCliTest : public ::testing::Test {
                        "--no-cleanup", "--out", Path(out)});
   }
 
-  static double MaxDifferenceToDrape(const std::string& obj, const std::string& drape_key) {
+  // The per-coordinate differences (m) between a fitted OBJ and a cached drape.
+  static Eigen::ArrayXd DifferenceToDrape(const std::string& obj, const std::string& drape_key) {
     v1::DrapeResult drape;
     EXPECT_TRUE(proto::ReadMessageFile(*dir_ / "cache" / (drape_key + ".fbd"), &drape).ok());
     auto fitted = core::ReadGarmentObj(Path(obj));
     EXPECT_TRUE(fitted.ok());
-    double worst = 0;
+    Eigen::ArrayXd difference(drape.positions_size());
     for (int i = 0; i < drape.positions_size(); ++i) {
-      worst = std::max(worst, std::abs(fitted->mesh.positions.data()[i] - drape.positions(i)));
+      difference(i) = fitted->mesh.positions.data()[i] - drape.positions(i);
     }
-    return worst;
+    return difference;
   }
 
-  static double SquaredDifferenceToDrape(const std::string& obj, const std::string& drape_key) {
-    v1::DrapeResult drape;
-    EXPECT_TRUE(proto::ReadMessageFile(*dir_ / "cache" / (drape_key + ".fbd"), &drape).ok());
-    auto fitted = core::ReadGarmentObj(Path(obj));
-    EXPECT_TRUE(fitted.ok());
-    double sum = 0;
-    for (int i = 0; i < drape.positions_size(); ++i) {
-      sum += std::pow(fitted->mesh.positions.data()[i] - drape.positions(i), 2);
-    }
-    return sum;
+  static double MaxDifferenceToDrape(const std::string& obj, const std::string& drape_key) {
+    return DifferenceToDrape(obj, drape_key).abs().maxCoeff();
   }
 
   static fs::path* dir_;
@@ -160,8 +153,8 @@ TEST_F(ClothingCliTest, KernelLearnsFromSampledDrapes) {
     ASSERT_EQ(FitExample(kernel, e, "k.fbc", "k.obj").exit_code, 0);
     ASSERT_EQ(FitExample(kernel, e, "l2.fbc", "l.obj").exit_code, 0);
     const std::string& key = kernel.provenance().examples(e).drape_key();
-    kernel_miss += SquaredDifferenceToDrape("k.obj", key);
-    linear_miss += SquaredDifferenceToDrape("l.obj", key);
+    kernel_miss += DifferenceToDrape("k.obj", key).square().sum();
+    linear_miss += DifferenceToDrape("l.obj", key).square().sum();
   }
   EXPECT_LT(kernel_miss, linear_miss);
   // The same inputs give the same bytes.
