@@ -26,6 +26,12 @@ std::string ClothingPlan::TaskLabel(size_t task) const {
                          : absl::StrCat("sample-", task - examples);
 }
 
+Eigen::VectorXd ClothingPlan::TaskWeights(size_t task) const {
+  const auto examples = static_cast<size_t>(design.example_count());
+  if (task < examples) return design.Weights(static_cast<int>(task));
+  return sample_weights.col(static_cast<Eigen::Index>(task - examples));
+}
+
 absl::StatusOr<ClothingPlan> PlanClothingBasis(const ClothingBuildSpec& spec) {
   const v1::AvatarBasis& basis = *spec.avatar_basis;
   const v1::Garment& garment = *spec.garment;
@@ -59,8 +65,8 @@ absl::StatusOr<ClothingPlan> PlanClothingBasis(const ClothingBuildSpec& spec) {
         garment, spec.size, Eigen::Map<const core::Positions>(body.data(), body.size() / 3, 3),
         spec.settings, spec.schedule));
   };
-  for (int e = 0; e < plan.design.example_count(); ++e) add_task(plan.design.Weights(e));
-  for (int i = 0; i < spec.sampled_drapes; ++i) add_task(plan.sample_weights.col(i));
+  const auto task_count = static_cast<size_t>(plan.design.example_count() + spec.sampled_drapes);
+  for (size_t task = 0; task < task_count; ++task) add_task(plan.TaskWeights(task));
   return plan;
 }
 
@@ -111,10 +117,7 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
         Eigen::Map<const core::Positions>(drapes.col(e).data(), vertex_count, 3));
   }
   for (Eigen::Index e = 0; e < drapes.cols(); ++e) {
-    examples.push_back({&example_drapes[e], e < examples_used
-                                                ? plan.design.Weights(static_cast<int>(e))
-                                                : Eigen::VectorXd(plan.sample_weights.col(
-                                                      e - examples_used))});
+    examples.push_back({&example_drapes[e], plan.TaskWeights(static_cast<size_t>(e))});
   }
   ASSIGN_OR_RETURN(const core::Mesh garment_mesh, proto::MeshFromProto(garment.template_mesh()));
   ASSIGN_OR_RETURN(core::BodyCorrespondence correspondence,
@@ -145,8 +148,7 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
     const auto task = static_cast<size_t>(e);
     v1::ClothingExample* example = provenance->add_examples();
     example->set_label(plan.TaskLabel(task));
-    const Eigen::VectorXd weights = e < examples_used ? plan.design.Weights(static_cast<int>(e))
-                                                      : plan.sample_weights.col(e - examples_used);
+    const Eigen::VectorXd weights = plan.TaskWeights(task);
     example->mutable_weights()->Assign(weights.begin(), weights.end());
     example->set_drape_key(plan.tasks[task].key);
     id.Add(absl::string_view(plan.tasks[task].key));

@@ -39,6 +39,7 @@ struct ClothingPlan {
   Eigen::MatrixXd sample_weights;         // N x sampled_drapes, m.
   std::vector<workers::DrapeTask> tasks;  // ExampleDesign order, then the samples'.
   std::string TaskLabel(size_t task) const;  // "mean", "+3", "-3", ..., "sample-17".
+  Eigen::VectorXd TaskWeights(size_t task) const;  // N, the task's avatar weights, m.
 };
 
 // Errors: a garment imported on another avatar basis (FAILED_PRECONDITION naming both ids),

@@ -6,6 +6,23 @@
 #include "proto/mesh_codec.h"
 
 namespace fitbase::proto {
+namespace {
+
+// The garment's faces as the basis stores them, positioned at the clothing mean.
+absl::StatusOr<v1::Mesh> FacesAtMean(const v1::ClothingBasis& message) {
+  if (message.faces().vertex_count() != message.vertex_count() ||
+      message.mean_size() != 3 * static_cast<int64_t>(message.vertex_count())) {
+    return absl::InvalidArgumentError(absl::StrCat("clothing basis ", message.id(), " has faces for ",
+                                                   message.faces().vertex_count(),
+                                                   " vertices; its model has ",
+                                                   message.vertex_count()));
+  }
+  v1::Mesh mesh = message.faces();
+  *mesh.mutable_positions() = message.mean();
+  return mesh;
+}
+
+}  // namespace
 
 void ClothingModelToProto(const core::ClothingModel& model, v1::ClothingBasis* message) {
   message->set_method(core::ClothingMethodName(model.method));
@@ -145,13 +162,7 @@ absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
   result.smoothing_iterations = static_cast<int>(c.smoothing_iterations());
   if (result.smoothing_iterations > 0) {
     // The smoothing runs over the garment's edges, which its faces give.
-    v1::Mesh faces = message.faces();
-    *faces.mutable_positions() = message.mean();
-    if (faces.vertex_count() != message.vertex_count()) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "clothing basis ", message.id(), " smooths its clean-up but has faces for ",
-          faces.vertex_count(), " vertices, not ", v));
-    }
+    ASSIGN_OR_RETURN(const v1::Mesh faces, FacesAtMean(message));
     ASSIGN_OR_RETURN(const core::Mesh mesh, MeshFromProto(faces));
     RETURN_IF_ERROR(core::SetGarmentNeighbors(core::Triangulate(mesh.faces), result));
   }
@@ -166,15 +177,7 @@ absl::StatusOr<core::ClothingFitter> ClothingFitterFromProto(const v1::ClothingB
 }
 
 absl::StatusOr<core::GarmentMesh> GarmentMeshFromClothingBasis(const v1::ClothingBasis& message) {
-  if (message.faces().vertex_count() != message.vertex_count() ||
-      message.mean_size() != 3 * static_cast<int64_t>(message.vertex_count())) {
-    return absl::InvalidArgumentError(absl::StrCat("clothing basis ", message.id(), " has faces for ",
-                                                   message.faces().vertex_count(),
-                                                   " vertices; its model has ",
-                                                   message.vertex_count()));
-  }
-  v1::Mesh mesh = message.faces();
-  *mesh.mutable_positions() = message.mean();
+  ASSIGN_OR_RETURN(const v1::Mesh mesh, FacesAtMean(message));
   return GarmentMeshFromProto(mesh, message.texcoords(), message.face_texcoord_indices());
 }
 

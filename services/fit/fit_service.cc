@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <span>
 #include <thread>
 
@@ -57,6 +58,10 @@ absl::StatusOr<Eigen::VectorXd> CheckedWeights(const v1::AvatarWeights& weights,
   return w;
 }
 
+// What a request that names no method is fitted with: the most accurate one built, kernel,
+// else linear (catalogues built before kernel).
+constexpr const char* kDefaultMethods[] = {"kernel", "linear"};
+
 // One garment size fitted to the weights; its positions (3V, xyz interleaved, m) go to the
 // caller's buffer, which a hot path keeps per thread so that a fit allocates nothing.
 struct SizeFitted {
@@ -79,9 +84,9 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
     return absl::NotFoundError(absl::StrCat("garment ", garment_id, " has no size '", size,
                                             "'; it has ", absl::StrJoin(sizes, ",")));
   }
-  // Unnamed, the method is the most accurate one built: kernel, else linear (older catalogues).
   const std::vector<std::string> methods =
-      method_name.empty() ? std::vector<std::string>{"kernel", "linear"}
+      method_name.empty() ? std::vector<std::string>(std::begin(kDefaultMethods),
+                                                     std::end(kDefaultMethods))
                           : std::vector<std::string>{std::string(method_name)};
   absl::StatusOr<std::shared_ptr<const ServedClothing>> found;
   for (const std::string& method : methods) {
@@ -515,7 +520,7 @@ grpc::ServerUnaryReactor* FitService::ListShopGarments(grpc::CallbackServerConte
         if (basis_id == garment->avatar_basis_id) summary.set_population(population);
       }
       for (const std::string& size : garment->topology.sizes()) {
-        for (const char* method : {"kernel", "linear"}) {
+        for (const char* method : kDefaultMethods) {
           if (catalog_->Clothing({principal.tenant, id, size, garment->avatar_basis_id, method})
                   .ok()) {
             summary.add_sizes(size);
