@@ -38,6 +38,7 @@
 #include "core/population_calibration.h"
 #include "pipeline/garment_importer.h"
 #include "pipeline/progress_reporter.h"
+#include "pipeline/skin_visibility.h"
 #include "proto/avatar_basis_codec.h"
 #include "proto/mesh_codec.h"
 #include "proto/message_file.h"
@@ -376,7 +377,13 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
     std::string size;
     absl::StatusOr<workers::GarmentFit> fit = absl::UnknownError("not run");
     double inside_leg = 0;
+    pipeline::SkinVisibility skin;  // Through the drape's own cloth.
   };
+  std::vector<core::Triangles> garment_triangles;
+  for (const v1::Garment& garment : imported) {
+    auto mesh = proto::MeshFromProto(garment.template_mesh());
+    garment_triangles.push_back(mesh.ok() ? core::Triangulate(mesh->faces) : core::Triangles());
+  }
   std::vector<Row> rows;
   for (size_t g = 0; g < imported.size(); ++g) {
     auto mean = proto::MeshFromProto(imported[g].mean_avatar());
@@ -401,6 +408,12 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
     const std::array<core::Measurement, 1> leg = {core::Measurement::kInsideLeg};
     auto measured = core::MeasureBody(row.body.positions, triangles, leg);
     if (measured.ok()) row.inside_leg = (*measured)[static_cast<int>(leg[0])];
+    if (row.fit.ok()) {
+      auto skin = pipeline::MeasureSkinThroughCloth({&row.body.positions, &triangles,
+                                                     &row.fit->positions,
+                                                     &garment_triangles[row.garment]});
+      if (skin.ok()) row.skin = *skin;
+    }
     std::lock_guard<std::mutex> lock(progress_mutex);
     progress.Update(static_cast<int64_t>(++done));
   });
@@ -409,10 +422,12 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
   std::printf(
       "\nsupports: drapes on the mean avatar, 5 bench bodies and the tallest, shortest and "
       "heaviest %d of 500 sampled avatars of the wearers' preset; worst |change| from the mean "
-      "avatar's drape of the same size, cm\n",
+      "avatar's drape of the same size, cm; skin through the cloth (front and side, 600 px), all "
+      "drapes' pixels together and the worst drape\n",
       extremes);
-  std::printf("%-22s %-4s %6s %8s %9s %9s %12s %12s %10s\n", "garment", "size", "drapes",
-              "flagged", "pen<0mm", "pen<1mm", "waistband", "collar", "failed");
+  std::printf("%-22s %-4s %6s %8s %9s %9s %12s %12s %10s %10s %10s\n", "garment", "size",
+              "drapes", "flagged", "pen<0mm", "pen<1mm", "waistband", "collar", "skin_all",
+              "skin_worst", "failed");
   for (size_t g = 0; g < imported.size(); ++g) {
     for (const std::string& size : sizes) {
       const v1::DrapeReport* mean = nullptr;
@@ -421,7 +436,8 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
           mean = &r.fit->report;
       }
       int count = 0, flagged = 0, failed = 0;
-      double below0 = 0, below1 = 0, band = -1, collar = -1;
+      double below0 = 0, below1 = 0, band = -1, collar = -1, skin_worst = 0;
+      pipeline::SkinVisibility skin;
       for (const Row& r : rows) {
         if (r.garment != g || r.size != size) continue;
         if (!r.fit.ok()) {
@@ -433,6 +449,9 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
         flagged += report.overstretched();
         below0 = std::max(below0, report.penetration_below_0mm());
         below1 = std::max(below1, report.penetration_below_1mm());
+        skin.cloth_pixels += r.skin.cloth_pixels;
+        skin.skin_pixels += r.skin.skin_pixels;
+        skin_worst = std::max(skin_worst, r.skin.share());
         if (mean != nullptr && report.has_waistband_above_navel_mm()) {
           band = std::max(band, std::abs(report.waistband_above_navel_mm() -
                                          mean->waistband_above_navel_mm()) / 10);
@@ -443,9 +462,10 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
         }
       }
       auto cm = [](double v) { return v < 0 ? std::string("-") : absl::StrFormat("%.1f", v); };
-      std::printf("%-22s %-4s %6d %8d %8.3f%% %8.3f%% %12s %12s %10d\n",
+      std::printf("%-22s %-4s %6d %8d %8.3f%% %8.3f%% %12s %12s %9.2f%% %9.2f%% %10d\n",
                   imported[g].name().c_str(), size.c_str(), count, flagged, 100 * below0,
-                  100 * below1, cm(band).c_str(), cm(collar).c_str(), failed);
+                  100 * below1, cm(band).c_str(), cm(collar).c_str(), 100 * skin.share(),
+                  100 * skin_worst, failed);
     }
   }
   std::printf("\nleg hems above the ankle (cm) by inside leg (cm), size M:\n");

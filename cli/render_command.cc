@@ -18,6 +18,7 @@
 #include "core/obj_io.h"
 #include "core/status_macros.h"
 #include "pipeline/png_file.h"
+#include "pipeline/skin_visibility.h"
 
 namespace fitbase::cli {
 namespace {
@@ -139,6 +140,19 @@ absl::Status RunRender(const RenderFlags& flags) {
   RETURN_IF_ERROR(pipeline::WritePng(flags.out, image.width, image.height, image.rgb));
   std::cout << absl::StrFormat("wrote %s (%dx%d: front view, side view from +X%s)\n", flags.out,
                                image.width, image.height, flags.values.empty() ? "" : ", legend");
+  const core::Triangles body_triangles = core::Triangulate(layers[0].mesh.faces);
+  for (size_t i = 1; i < layers.size(); ++i) {
+    const core::Triangles garment_triangles = core::Triangulate(layers[i].mesh.faces);
+    ASSIGN_OR_RETURN(const pipeline::SkinVisibility skin,
+                     pipeline::MeasureSkinThroughCloth({&layers[0].mesh.positions, &body_triangles,
+                                                        &layers[i].mesh.positions,
+                                                        &garment_triangles},
+                                                       flags.height));
+    std::cout << absl::StrFormat(
+        "skin through %s: %.2f%% of its %d cloth pixels (body within %.0f mm before the cloth)\n",
+        flags.garments[i - 1], 100 * skin.share(), skin.cloth_pixels,
+        1000 * pipeline::kClothCoverDepth);
+  }
   if (!flags.values.empty()) {
     const std::vector<double> limits =
         core::ColorScaleLimits(layers[1].value_min, layers[1].value_max);

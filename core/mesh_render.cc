@@ -226,10 +226,10 @@ absl::StatusOr<RenderedImage> RenderFrontAndSide(const std::vector<RenderLayer>&
                             .top = hi.y(),
                             .top_px = top_px,
                             .scale = scale};
-  std::vector<double> depth(pixels, -std::numeric_limits<double>::infinity());
+  image.depth.assign(pixels, -std::numeric_limits<double>::infinity());
   for (size_t i = 0; i < layers.size(); ++i) {
-    DrawLayer(layers[i], static_cast<int32_t>(i), front, image.front, depth, image);
-    DrawLayer(layers[i], static_cast<int32_t>(i), side, image.side, depth, image);
+    DrawLayer(layers[i], static_cast<int32_t>(i), front, image.front, image.depth, image);
+    DrawLayer(layers[i], static_cast<int32_t>(i), side, image.side, image.depth, image);
   }
 
   if (legend != nullptr) {

@@ -42,6 +42,9 @@ struct RenderedImage {
   int height = 0;
   std::vector<uint8_t> rgb;          // height x width x 3, rows from the top.
   std::vector<int32_t> layer_index;  // height x width: the visible layer, or -1 for none.
+  // height x width: the visible surface's world coordinate along the axis towards the camera
+  // (m; +Z in the front view, +X in the side view), -infinity for none.
+  std::vector<double> depth;
   ViewFrame front;                   // camera at +Z looking along -Z, image right = +X.
   ViewFrame side;                    // camera at +X looking along -X, image right = -Z.
   double pixels_per_meter = 0.0;     // the same in both views.

@@ -43,6 +43,29 @@ void Extend(const core::Positions& positions, Eigen::AlignedBox3d& box) {
 
 }  // namespace
 
+absl::StatusOr<SkinVisibility> MeasureSkinThroughCloth(const DressedBody& drape, int height) {
+  RETURN_IF_ERROR(CheckScene(drape, "drape"));
+  Eigen::AlignedBox3d frame;
+  Extend(*drape.body, frame);
+  Extend(*drape.garment, frame);
+  const core::RenderOptions options{.height = height, .frame = frame};
+  std::vector<core::RenderLayer> layers(2);
+  layers[kBodyLayer].mesh = TriangleMesh(*drape.body, *drape.body_triangles);
+  layers[kGarmentLayer].mesh = TriangleMesh(*drape.garment, *drape.garment_triangles);
+  ASSIGN_OR_RETURN(const core::RenderedImage dressed, core::RenderFrontAndSide(layers, options));
+  layers.erase(layers.begin());
+  ASSIGN_OR_RETURN(const core::RenderedImage cloth, core::RenderFrontAndSide(layers, options));
+  SkinVisibility result;
+  for (size_t i = 0; i < cloth.layer_index.size(); ++i) {
+    if (cloth.layer_index[i] < 0) continue;
+    const bool skin = dressed.layer_index[i] == kBodyLayer;
+    if (skin && dressed.depth[i] - cloth.depth[i] >= kClothCoverDepth) continue;
+    ++result.cloth_pixels;
+    result.skin_pixels += skin;
+  }
+  return result;
+}
+
 absl::StatusOr<SkinVisibility> MeasureVisibleSkin(const DressedBody& reference,
                                                   const DressedBody& candidate, int height) {
   RETURN_IF_ERROR(CheckScene(reference, "reference"));

@@ -41,6 +41,20 @@ absl::StatusOr<SkinVisibility> MeasureVisibleSkin(const DressedBody& reference,
                                                   const DressedBody& candidate,
                                                   int height = kSkinViewHeight);
 
+// How far in front of its garment a body surface may lie and still be the cloth's own place:
+// more than any body point pokes through a drape, less than the gap between a limb and the
+// cloth behind it that it hides in the views (an arm before the side of a top), m.
+inline constexpr double kClothCoverDepth = 0.02;
+
+// Skin through a garment's own cloth, as a shopper sees it: the front and side views of the
+// drape (orthographic, z-buffered) and of its garment alone, one framing for both. Cloth pixels
+// are those the garment covers where the body in front of it, if any, lies less than
+// kClothCoverDepth before it; skin pixels are those of them where the body shows. A body part
+// farther in front (a limb) hides the cloth legitimately and counts for neither. Errors
+// (INVALID_ARGUMENT) as MeasureVisibleSkin's.
+absl::StatusOr<SkinVisibility> MeasureSkinThroughCloth(const DressedBody& drape,
+                                                       int height = kSkinViewHeight);
+
 }  // namespace fitbase::pipeline
 
 #endif  // FITBASE_PIPELINE_SKIN_VISIBILITY_H_

@@ -75,6 +75,51 @@ TEST(SkinVisibilityTest, CountsTheClothThatSinksUnderTheSkin) {
   EXPECT_NEAR(reverse->cloth_pixels, 0.5 * skin->cloth_pixels, 0.03 * skin->cloth_pixels);
 }
 
+// The box and, 5 cm before the patch's left half, a 0.1 m cube standing for a forearm.
+Box BodyAndLimb() {
+  Box scene = BodyBox();
+  Box limb = BodyBox();
+  for (Eigen::Index v = 0; v < 8; ++v) {
+    limb.positions.row(v) << ((v & 1) ? 0.0 : -0.1), ((v & 2) ? 1.05 : 0.95), ((v & 4) ? 0.26 : 0.16);
+  }
+  scene.positions.conservativeResize(16, 3);
+  scene.positions.bottomRows(8) = limb.positions;
+  scene.triangles.conservativeResize(24, 3);
+  scene.triangles.bottomRows(12) = limb.triangles.array() + 8;
+  return scene;
+}
+
+TEST(SkinVisibilityTest, ADrapeOutsideItsBodyShowsNoSkinThroughItsCloth) {
+  const Box body = BodyAndLimb();
+  const core::Positions garment = Patch(0.11, 0.11);
+  const core::Triangles triangles = PatchTriangles();
+  const absl::StatusOr<SkinVisibility> skin =
+      MeasureSkinThroughCloth({&body.positions, &body.triangles, &garment, &triangles});
+  ASSERT_TRUE(skin.ok()) << skin.status();
+  // The limb hides a quarter of the patch (half its width, half its height), which counts as
+  // neither cloth nor skin.
+  const double side_px = 0.2 * (600 - 60) / 1.0;
+  EXPECT_NEAR(skin->cloth_pixels, 0.75 * side_px * side_px, 0.03 * side_px * side_px);
+  EXPECT_EQ(skin->skin_pixels, 0);
+}
+
+TEST(SkinVisibilityTest, CountsTheSkinThatPokesThroughADrapesOwnCloth) {
+  const Box body = BodyAndLimb();
+  // The right half 1 cm inside the body: the body shows through it in the front view.
+  const core::Positions garment = Patch(0.11, 0.09);
+  const core::Triangles triangles = PatchTriangles();
+  const absl::StatusOr<SkinVisibility> skin =
+      MeasureSkinThroughCloth({&body.positions, &body.triangles, &garment, &triangles});
+  ASSERT_TRUE(skin.ok()) << skin.status();
+  EXPECT_NEAR(skin->share(), 0.5 / 0.75, 0.03);
+  // Sunk 3 cm, beyond kClothCoverDepth, the half is taken for cloth hidden by the body.
+  const core::Positions deep = Patch(0.11, 0.07);
+  const absl::StatusOr<SkinVisibility> hidden =
+      MeasureSkinThroughCloth({&body.positions, &body.triangles, &deep, &triangles});
+  ASSERT_TRUE(hidden.ok()) << hidden.status();
+  EXPECT_EQ(hidden->skin_pixels, 0);
+}
+
 TEST(SkinVisibilityTest, RejectsMissingEmptyOrBrokenMeshes) {
   const Box body = BodyBox();
   const core::Positions garment = Patch(0.11, 0.11);
@@ -95,8 +140,11 @@ TEST(SkinVisibilityTest, RejectsMissingEmptyOrBrokenMeshes) {
   EXPECT_EQ(MeasureVisibleSkin(good, broken).status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(MeasureVisibleSkin(good, good, 8).status().code(),
             absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(MeasureSkinThroughCloth(missing).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(MeasureSkinThroughCloth(broken).status().code(), absl::StatusCode::kInvalidArgument);
   triangles(0, 0) = 8;
   EXPECT_EQ(MeasureVisibleSkin(good, good).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(MeasureSkinThroughCloth(good).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 }  // namespace

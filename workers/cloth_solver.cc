@@ -21,6 +21,15 @@ constexpr double kPokeSearch = 0.01;
 // collision offset: between its corners (which keep the offset) a flat triangle over a convex
 // body sits lower, and asking more of it fights the corners' contacts.
 constexpr double kPokeClearance = 0.0005;
+// How far ClearTriangles lifts a garment triangle above a body vertex under it, m: enough that
+// no body edge between the vertices shows through. Asked of the pokes during the drape, as much
+// put the shirt front of male_casualsuit03 in and out of contact between nearby bodies (250
+// kinks, second difference p99 2.4 mm against 1.1 at 0.1 sigma); asked once at the end, where it
+// meets only triangles the penalty left lower, it kept 1.1 mm.
+constexpr double kFinalClearance = 0.0015;
+// Cloth is over a body vertex when the way to it is at least this much along the vertex's
+// normal (cos 60 degrees); beside a hem it runs along the skin.
+constexpr double kOverShare = 0.5;
 // The longest vertex move of one Newton iteration, as a share of the collision search.
 constexpr double kMaxMoveShareOfSearch = 0.5;
 // Armijo line search: sufficient decrease, and how often the step may be halved.
@@ -174,7 +183,7 @@ double ClothSolver::Step(const core::TriangleBvh& body) {
     pokes_body_ = body.positions();
     pokes_found_ = false;
   } else if (!pokes_found_) {
-    FindPokes(body);
+    pokes_ = FindPokes(body);
     pokes_found_ = true;
   }
   floor_ = body.positions().col(1).minCoeff();
@@ -418,8 +427,8 @@ void ClothSolver::AddContacts(const core::Positions& x, const core::TriangleBvh&
   }
 }
 
-void ClothSolver::FindPokes(const core::TriangleBvh& body) {
-  pokes_.clear();
+std::vector<ClothSolver::Poke> ClothSolver::FindPokes(const core::TriangleBvh& body) {
+  std::vector<Poke> pokes;
   garment_bvh_->Refit(positions_);
   const core::Positions& bp = body.positions();
   const core::Triangles& bt = body.triangles();
@@ -443,11 +452,40 @@ void ClothSolver::FindPokes(const core::TriangleBvh& body) {
     // surface; it is this vertex's only if the body under it is near this vertex.
     const core::SurfacePoint under = body.Closest(hit.point, settings_.collision_search);
     if (!under.found || (under.point - p.transpose()).norm() > kOwnSurfaceRadius) continue;
-    // Only a triangle over the vertex (its closest point inside, not on a side) is poked.
-    if ((hit.barycentric.array() <= 0).any()) continue;
-    pokes_.push_back(
-        {static_cast<int32_t>(b), hit.triangle, hit.barycentric, normals.row(b).transpose() / norm});
+    // Only cloth over (or under) the vertex is poked, not a hem beside it, whose nearest point
+    // lies along the skin. The nearest point may be on an edge between two triangles: poking
+    // only triangles whose inside is nearest let female_casualsuit01's leggings snap over body
+    // vertices under their edges between bodies 0.05 sigma apart (second difference 4.2 mm,
+    // the same at half the step; 0.8 mm at half the step with edges poked too).
+    const Eigen::Vector3d normal = normals.row(b).transpose() / norm;
+    const Eigen::Vector3d up = hit.point - p.transpose();
+    if (std::abs(up.dot(normal)) < kOverShare * up.norm()) continue;
+    pokes.push_back({static_cast<int32_t>(b), hit.triangle, hit.barycentric, normal});
   }
+  return pokes;
+}
+
+int ClothSolver::ClearTriangles(const core::TriangleBvh& body) {
+  int lifted = 0;
+  for (const Poke& poke : FindPokes(body)) {
+    const auto tri = model_.triangles.row(poke.triangle);
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    double weight_squares = 0;
+    for (int c = 0; c < 3; ++c) {
+      point += poke.barycentric(c) * positions_.row(tri(c)).transpose();
+      if (masses_(tri(c)) > 0) weight_squares += poke.barycentric(c) * poke.barycentric(c);
+    }
+    const double lack = kFinalClearance -
+                        (point - body.positions().row(poke.body_vertex).transpose()).dot(poke.normal);
+    if (!(lack > 0) || weight_squares == 0) continue;
+    // The least change of the corners that lifts the point over the body vertex enough.
+    for (int c = 0; c < 3; ++c) {
+      if (masses_(tri(c)) == 0) continue;
+      positions_.row(tri(c)) += (poke.barycentric(c) * lack / weight_squares) * poke.normal.transpose();
+    }
+    ++lifted;
+  }
+  return lifted;
 }
 
 Eigen::Vector3d ClothSolver::PushOut(const core::TriangleBvh& body, const core::SurfacePoint& hit,

@@ -128,6 +128,13 @@ class ClothSolver {
   // returns how many moved.
   int ResolveCollisions(const core::TriangleBvh& body, double search, double below);
 
+  // Lifts every garment triangle that lies less than 1.5 mm over a body vertex under it (found
+  // as the pokes are, on the garment as it now is) by the least change of its corners along
+  // that vertex's normal, one triangle after another; returns how many were lifted. Contact is
+  // a penalty, and a garment stretched tight over a large body presses its triangles' middles
+  // into the skin between the corners, which keep their offset.
+  int ClearTriangles(const core::TriangleBvh& body);
+
   const core::Positions& positions() const { return positions_; }
 
   ~ClothSolver();
@@ -168,7 +175,8 @@ class ClothSolver {
 
   // Where `skin` is on the body as it now is, m.
   static Eigen::Vector3d OnSkin(const core::TriangleBvh& body, const SkinPoint& skin);
-  void FindPokes(const core::TriangleBvh& body);
+  // The body vertices under the garment's triangles as it now is.
+  std::vector<Poke> FindPokes(const core::TriangleBvh& body);
   // Where a vertex inside the body, nearest `hit` on its surface, is put (m): at the collision
   // offset along the surface normal; nearer the surface where that point is inside another
   // part of the body; out along the crease where the two parts touch. The point tried that is

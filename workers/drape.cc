@@ -11,6 +11,9 @@ namespace fitbase::workers {
 namespace {
 
 constexpr double kMmPerMeter = 1000.0;
+// Rounds of putting vertices and triangles clear of the body at the end: a lifted triangle may
+// carry a corner into a crease, and a pushed vertex may tilt a triangle onto the skin.
+constexpr int kClearancePasses = 4;
 
 absl::Status ValidateInput(const DrapeInput& in) {
   if (in.model == nullptr) return absl::InvalidArgumentError("drape has no cloth model");
@@ -71,10 +74,12 @@ absl::StatusOr<DrapeResult> Drape(const DrapeInput& in, const ClothSettings& set
   double last_move = 0;
   for (int step = 0; step < schedule.relax_steps; ++step) last_move = solver.Step(body);
   // Contact is a penalty, so a vertex pressed hard may sit a little inside the offset; one
-  // deep enough to count as penetrating is put back on it.
-  for (int pass = 0;
-       pass < 4 && solver.ResolveCollisions(body, kTemplatePushSearch, kPenetrationDistance) > 0;
-       ++pass) {
+  // deep enough to count as penetrating is put back on it, and a triangle pressed into the
+  // skin between its corners is lifted clear.
+  for (int pass = 0; pass < kClearancePasses; ++pass) {
+    const int moved = solver.ResolveCollisions(body, kTemplatePushSearch, kPenetrationDistance) +
+                      solver.ClearTriangles(body);
+    if (moved == 0) break;
   }
   result.positions = solver.positions();
   result.steps = schedule.homotopy_steps + schedule.relax_steps;

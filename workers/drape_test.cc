@@ -1,6 +1,7 @@
 #include "workers/drape.h"
 
 #include <cstdio>
+#include <limits>
 
 #include "core/content_hash.h"
 #include "gtest/gtest.h"
@@ -200,6 +201,41 @@ TEST_F(DrapeTest, VariesSmoothlyWithTheBody) {
   EXPECT_LT(second, 1.0);
   // And the body did move the garment: the test would pass for a drape ignoring the body.
   EXPECT_GT(1000 * (plus->positions - minus->positions).cwiseAbs().maxCoeff(), 0.5);
+}
+
+TEST_F(DrapeTest, ATightCoarseBandKeepsItsTrianglesOffTheSkin) {
+  // A band of 12 facets stretched round a finely tessellated waist: its corners keep the
+  // collision offset, but each facet's chord over the round waist would pass 5 mm under it,
+  // and the band's tension presses it in, as a size too small does on a large body.
+  const core::Mesh band = Tube(0.115, -0.03, 0.03, 2, 12);
+  auto model = BuildClothModel(band.positions, band.faces, 0.2);
+  ASSERT_TRUE(model.ok());
+  DrapeInput input = Input(1.0, 1.0);
+  input.model = &*model;
+  input.start = band.positions;
+  input.edge_rest = 0.9 * PairLengths(band.positions, model->edges);
+  input.hinge_rest = HingeAngles(band.positions, model->hinges);
+  input.waistband_edges.clear();
+  input.target_body = 1.2 * mean_.positions;
+  auto result = Drape(input);
+  ASSERT_TRUE(result.ok()) << result.status();
+  // Every body vertex the band covers lies at least a millimetre under the band's surface.
+  auto garment = core::TriangleBvh::Build(result->positions, model->triangles);
+  ASSERT_TRUE(garment.ok());
+  int covered = 0;
+  double lowest = std::numeric_limits<double>::infinity();
+  for (Eigen::Index v = 0; v < input.target_body.rows(); ++v) {
+    const Eigen::Vector3d p = input.target_body.row(v).transpose();
+    if (std::abs(p.y()) > 0.02) continue;
+    const Eigen::Vector3d outward = Eigen::Vector3d(p.x(), 0, p.z()).normalized();
+    const core::SurfacePoint cloth = garment->Closest(p, 0.02);
+    ASSERT_TRUE(cloth.found) << "body vertex " << v << " is not under the band";
+    lowest = std::min(lowest, (cloth.point - p).dot(outward));
+    ++covered;
+  }
+  std::printf("band over %d body vertices, lowest %.2f mm above them\n", covered, 1000 * lowest);
+  EXPECT_GE(covered, 32);  // The waist's ring of vertices.
+  EXPECT_GT(lowest, 0.001);
 }
 
 TEST_F(DrapeTest, RejectsBadInput) {
