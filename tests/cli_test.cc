@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "Eigen/Geometry"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "core/body_model.h"
@@ -127,6 +128,42 @@ TEST(CliTest, RenderWritesAPngOfTheAvatar) {
                                      (dir / "b.png").string()});
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_THAT(missing.err, HasSubstr("--body"));
+}
+
+TEST(CliTest, RenderSaysHowMuchSkinShowsThroughEachGarment) {
+  const fs::path dir = Scratch("render_skin");
+  ASSERT_EQ(RunFitbase({"avatar", "--params", "{}", "--out", (dir / "a.obj").string()}).exit_code,
+            0);
+  const absl::StatusOr<core::Mesh> body = core::ReadObj(dir / "a.obj");
+  ASSERT_TRUE(body.ok()) << body.status();
+  // A "garment" that is the body moved 5 mm out along its vertex normals covers it everywhere;
+  // moved 5 mm in, the skin shows wherever it would be seen.
+  const core::Triangles triangles = core::Triangulate(body->faces);
+  core::Positions normals = core::Positions::Zero(body->positions.rows(), 3);
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    const Eigen::RowVector3d a = body->positions.row(triangles(t, 0));
+    const Eigen::RowVector3d n = (body->positions.row(triangles(t, 1)) - a)
+                                     .cross(body->positions.row(triangles(t, 2)) - a);
+    for (int c = 0; c < 3; ++c) normals.row(triangles(t, c)) += n;
+  }
+  for (Eigen::Index v = 0; v < normals.rows(); ++v) {
+    if (normals.row(v).norm() > 0) normals.row(v).normalize();
+  }
+  for (const auto& [name, shift] : {std::pair{"out.obj", 0.005}, std::pair{"in.obj", -0.005}}) {
+    core::Mesh garment = *body;
+    garment.positions += shift * normals;
+    ASSERT_TRUE(core::WriteObj(dir / name, garment).ok());
+  }
+  const Result r = RunFitbase({"render", "--body", (dir / "a.obj").string(), "--garment",
+                               (dir / "out.obj").string(), "--garment", (dir / "in.obj").string(),
+                               "--out", (dir / "a.png").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("skin through " + (dir / "out.obj").string() + ": 0.00%"));
+  // All but the thinnest parts (fingers, ears), where the shift crosses the body.
+  const std::string inside = "skin through " + (dir / "in.obj").string() + ": ";
+  const size_t at = r.out.find(inside);
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_GT(std::stod(r.out.substr(at + inside.size())), 99.0) << r.out;
 }
 
 TEST(CliTest, BadAvatarParamsFailWithTheirName) {

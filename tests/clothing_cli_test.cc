@@ -255,7 +255,14 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
     EXPECT_LE(row.visible_skin(), row.visible_skin_max()) << row.method();
     EXPECT_LE(row.visible_skin_max(), 1) << row.method();
   }
-  EXPECT_THAT(*core::ReadFileToString(Path("eval/report.md")), HasSubstr("| quadratic | yes |"));
+  // The drapes themselves are judged too: skin through their own cloth.
+  const v1::GarmentAccuracy& garment = report.garments(0);
+  EXPECT_GE(garment.drape_skin_through(), 0);
+  EXPECT_LE(garment.drape_skin_through(), garment.drape_skin_through_max());
+  EXPECT_LE(garment.drape_skin_through_max(), 1);
+  const std::string md = *core::ReadFileToString(Path("eval/report.md"));
+  EXPECT_THAT(md, HasSubstr("| quadratic | yes |"));
+  EXPECT_THAT(md, HasSubstr("skin through the drapes' own cloth"));
   EXPECT_TRUE(fs::exists(Path("eval/female_sportsuit01-M-linear.fbc")));
 
   const Result bad = RunFitbase({"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
