@@ -385,9 +385,12 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
     garment_triangles.push_back(mesh.ok() ? core::Triangulate(mesh->faces) : core::Triangles());
   }
   std::vector<Row> rows;
+  std::vector<double> mean_rise(imported.size(), 0.0);  // Crotch to navel, m.
   for (size_t g = 0; g < imported.size(); ++g) {
     auto mean = proto::MeshFromProto(imported[g].mean_avatar());
     if (!mean.ok()) continue;
+    mean_rise[g] = mean->positions(core::BodyLandmarks::kNavel, 1) -
+                   mean->positions(core::BodyLandmarks::kCrotch, 1);
     std::vector<Body> bodies = {{"mean", mean->positions.topRows(core::kBodyVertexCount)}};
     for (const Body& b : bench_bodies) {
       if (absl::StartsWith(b.name, "man") == IsMenswear(imported[g])) bodies.push_back(b);
@@ -422,12 +425,13 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
   std::printf(
       "\nsupports: drapes on the mean avatar, 5 bench bodies and the tallest, shortest and "
       "heaviest %d of 500 sampled avatars of the wearers' preset; worst |change| from the mean "
-      "avatar's drape of the same size, cm; skin through the cloth (front and side, 600 px), all "
-      "drapes' pixels together and the worst drape\n",
+      "avatar's drape of the same size, cm (band_rise: the waistband's place as a share of the "
+      "crotch-to-navel rise, in cm of the mean avatar's rise); skin through the cloth (front and "
+      "side, 600 px), all drapes' pixels together and the worst drape\n",
       extremes);
-  std::printf("%-22s %-4s %6s %8s %9s %9s %12s %12s %10s %10s %10s\n", "garment", "size",
-              "drapes", "flagged", "pen<0mm", "pen<1mm", "waistband", "collar", "skin_all",
-              "skin_worst", "failed");
+  std::printf("%-22s %-4s %6s %8s %9s %9s %12s %12s %12s %10s %10s %10s\n", "garment", "size",
+              "drapes", "flagged", "pen<0mm", "pen<1mm", "waistband", "band_rise", "collar",
+              "skin_all", "skin_worst", "failed");
   for (size_t g = 0; g < imported.size(); ++g) {
     for (const std::string& size : sizes) {
       const v1::DrapeReport* mean = nullptr;
@@ -436,7 +440,7 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
           mean = &r.fit->report;
       }
       int count = 0, flagged = 0, failed = 0;
-      double below0 = 0, below1 = 0, band = -1, collar = -1, skin_worst = 0;
+      double below0 = 0, below1 = 0, band = -1, band_share = -1, collar = -1, skin_worst = 0;
       pipeline::SkinVisibility skin;
       for (const Row& r : rows) {
         if (r.garment != g || r.size != size) continue;
@@ -456,19 +460,28 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
           band = std::max(band, std::abs(report.waistband_above_navel_mm() -
                                          mean->waistband_above_navel_mm()) / 10);
         }
+        if (mean != nullptr && report.has_waistband_crotch_to_navel()) {
+          band_share = std::max(band_share, std::abs(report.waistband_crotch_to_navel() -
+                                                     mean->waistband_crotch_to_navel()));
+        }
         if (mean != nullptr && report.has_collar_above_neck_base_mm()) {
           collar = std::max(collar, std::abs(report.collar_above_neck_base_mm() -
                                              mean->collar_above_neck_base_mm()) / 10);
         }
       }
       auto cm = [](double v) { return v < 0 ? std::string("-") : absl::StrFormat("%.1f", v); };
-      std::printf("%-22s %-4s %6d %8d %8.3f%% %8.3f%% %12s %12s %9.2f%% %9.2f%% %10d\n",
+      // The band's worst change of place on the torso, in centimetres of the mean avatar's
+      // crotch-to-navel rise.
+      const double band_rise = band_share < 0 ? -1 : band_share * 100 * mean_rise[g];
+      std::printf("%-22s %-4s %6d %8d %8.3f%% %8.3f%% %12s %12s %12s %9.2f%% %9.2f%% %10d\n",
                   imported[g].name().c_str(), size.c_str(), count, flagged, 100 * below0,
-                  100 * below1, cm(band).c_str(), cm(collar).c_str(), 100 * skin.share(),
-                  100 * skin_worst, failed);
+                  100 * below1, cm(band).c_str(), cm(band_rise).c_str(), cm(collar).c_str(),
+                  100 * skin.share(), 100 * skin_worst, failed);
     }
   }
-  std::printf("\nleg hems above the ankle (cm) by inside leg (cm), size M:\n");
+  std::printf(
+      "\nleg hems above the ankle (cm) by inside leg (cm), size M, with the waistband above the "
+      "navel and the collar above the neck base (cm):\n");
   for (size_t g = 0; g < imported.size(); ++g) {
     std::vector<const Row*> hems;
     for (const Row& r : rows) {
@@ -494,8 +507,19 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
     std::printf("%s: %.2f cm higher per cm of leg\n", imported[g].name().c_str(),
                 sxx > 0 ? sxy / sxx : 0.0);
     for (const Row* r : hems) {
-      std::printf("  %-20s inside leg %5.1f  hem %+5.1f\n", r->body.name.c_str(),
-                  100 * r->inside_leg, r->fit->report.hem_above_ankle_mm() / 10);
+      const v1::DrapeReport& report = r->fit->report;
+      std::string supports;
+      if (report.has_waistband_above_navel_mm()) {
+        supports += absl::StrFormat("  waistband %+5.1f (%3.0f%% of the rise)",
+                                    report.waistband_above_navel_mm() / 10,
+                                    100 * report.waistband_crotch_to_navel());
+      }
+      if (report.has_collar_above_neck_base_mm()) {
+        supports += absl::StrFormat("  collar %+5.1f", report.collar_above_neck_base_mm() / 10);
+      }
+      std::printf("  %-20s inside leg %5.1f  hem %+5.1f%s  stretch p99 %3.0f%%  skin %.2f%%\n",
+                  r->body.name.c_str(), 100 * r->inside_leg, report.hem_above_ankle_mm() / 10,
+                  supports.c_str(), 100 * report.stretch_p99(), 100 * r->skin.share());
     }
   }
 }
@@ -563,6 +587,12 @@ int Main(int argc, char** argv) {
   app.add_flag("--speed", speed, "Only compare the simplicial and the supernodal factorisation's speed");
   app.add_option("--tie-limit", settings.tie_limit,
                  "Stiction's largest force in the vertex's weights (0: none, the default)");
+  app.add_option("--skin-tie", settings.skin_tie,
+                 "Stiction, N/m per kg of cloth (default: ClothSettings's)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--anchor", settings.anchor_stiffness,
+                 "N/m holding a top opening's height on the body (default: ClothSettings's)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--waistband-stiffness", settings.waistband_stiffness,
                  "N/m of a waistband's elastic (0: none, the default)");
   app.add_option("--waistband-anchor", settings.waistband_anchor_stiffness,

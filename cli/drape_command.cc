@@ -56,8 +56,13 @@ absl::Status RunDrape(const DrapeFlags& flags) {
       r.seconds(), flags.out);
   std::string supports;
   if (r.has_waistband_above_navel_mm()) {
-    absl::StrAppendFormat(&supports, " waistband %+.1f cm above the navel;",
+    absl::StrAppendFormat(&supports, " waistband %+.1f cm above the navel",
                           r.waistband_above_navel_mm() / 10);
+    if (r.has_waistband_crotch_to_navel()) {
+      absl::StrAppendFormat(&supports, " (%.0f%% of the way from the crotch up to it)",
+                            100 * r.waistband_crotch_to_navel());
+    }
+    supports += ";";
   }
   if (r.has_collar_above_neck_base_mm()) {
     absl::StrAppendFormat(&supports, " collar %+.1f cm above the neck base;",

@@ -73,13 +73,14 @@ absl::StatusOr<DrapeResult> Drape(const DrapeInput& in, const ClothSettings& set
   if (schedule.homotopy_steps == 0) body.Refit(in.target_body);
   double last_move = 0;
   for (int step = 0; step < schedule.relax_steps; ++step) last_move = solver.Step(body);
-  // Contact is a penalty, so a vertex pressed hard may sit a little inside the offset; one
-  // deep enough to count as penetrating is put back on it, and a triangle pressed into the
-  // skin between its corners is lifted clear.
-  for (int pass = 0; pass < kClearancePasses; ++pass) {
-    const int moved = solver.ResolveCollisions(body, kTemplatePushSearch, kPenetrationDistance) +
-                      solver.ClearTriangles(body);
-    if (moved == 0) break;
+  // Contact is a penalty, so a triangle pressed into the skin between its corners is lifted
+  // clear, and a vertex pressed hard may sit a little inside the offset; one deep enough to
+  // count as penetrating is put back on it. Vertices go last: a triangle lifted off one body
+  // part in a crease may carry a corner into the other.
+  int moved = 1;
+  for (int pass = 0; pass < kClearancePasses && moved > 0; ++pass) {
+    moved = solver.ClearTriangles(body);
+    moved += solver.ResolveCollisions(body, kTemplatePushSearch, kPenetrationDistance);
   }
   result.positions = solver.positions();
   result.steps = schedule.homotopy_steps + schedule.relax_steps;

@@ -38,11 +38,13 @@ SupportHeights MeasureSupports(const ClothModel& model,
   const double underbust = mean_body(BodyLandmarks::kLeftUnderbust, 1);
   const double neck_base =
       0.5 * (body(BodyLandmarks::kNeckFront, 1) + body(BodyLandmarks::kNeckBack, 1));
-  std::vector<double> waistbands, collars, hems;
+  std::vector<double> waistbands, shares, collars, hems;
+  const double rise = body(BodyLandmarks::kNavel, 1) - body(BodyLandmarks::kCrotch, 1);
   for (const Opening& opening : model.openings) {
     if (!opening.edges.empty() &&
         std::binary_search(waistband_edges.begin(), waistband_edges.end(), opening.edges[0])) {
       waistbands.push_back(mean_height(opening.vertices) - body(BodyLandmarks::kNavel, 1));
+      if (rise > 0) shares.push_back(1 + waistbands.back() / rise);
     }
     if (opening.highest_of_piece && opening.mean_height >= underbust) {
       collars.push_back(mean_height(opening.vertices) - neck_base);
@@ -51,7 +53,7 @@ SupportHeights MeasureSupports(const ClothModel& model,
       hems.push_back(mean_height(opening.vertices) - body(BodyLandmarks::kLeftAnkle, 1));
     }
   }
-  return {average(waistbands), average(collars), average(hems)};
+  return {average(waistbands), average(shares), average(collars), average(hems)};
 }
 
 double Quantile(std::vector<double> values, double q) {

@@ -107,6 +107,9 @@ void SetSupports(const SupportHeights& supports, v1::DrapeReport* report) {
   if (supports.waistband_above_navel) {
     report->set_waistband_above_navel_mm(kMmPerMeter * *supports.waistband_above_navel);
   }
+  if (supports.waistband_crotch_to_navel) {
+    report->set_waistband_crotch_to_navel(*supports.waistband_crotch_to_navel);
+  }
   if (supports.collar_above_neck_base) {
     report->set_collar_above_neck_base_mm(kMmPerMeter * *supports.collar_above_neck_base);
   }
