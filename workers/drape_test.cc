@@ -39,6 +39,18 @@ class DrapeTest : public ::testing::Test {
                       .body_triangles = core::Triangulate(mean_.faces)};
   }
 
+  // A closed band (its cloth model `model`) in place of the skirt, at `rest_scale` of its own
+  // edge lengths, on the unscaled body, with no waistband.
+  DrapeInput BandInput(const core::Mesh& band, const ClothModel& model, double rest_scale) const {
+    DrapeInput input = Input(1.0, 1.0);
+    input.model = &model;
+    input.start = band.positions;
+    input.edge_rest = rest_scale * PairLengths(band.positions, model.edges);
+    input.hinge_rest = HingeAngles(band.positions, model.hinges);
+    input.waistband_edges.clear();
+    return input;
+  }
+
   // The supports for bodies far from the mean, off by default (ClothSettings::tie_limit).
   static ClothSettings Supported() {
     ClothSettings settings;
@@ -141,13 +153,7 @@ TEST_F(DrapeTest, ConvergesUnderTheFixedBudget) {
   const core::Mesh band = Tube(0.16, -0.06, 0.06, 6, 24);
   auto model = BuildClothModel(band.positions, band.faces, 0.2);
   ASSERT_TRUE(model.ok());
-  DrapeInput input = Input(1.0, 1.0);
-  input.model = &*model;
-  input.start = band.positions;
-  input.edge_rest = 0.9 * PairLengths(band.positions, model->edges);
-  input.hinge_rest = HingeAngles(band.positions, model->hinges);
-  input.waistband_edges.clear();
-  auto snug = Drape(input);
+  auto snug = Drape(BandInput(band, *model, 0.9));
   ASSERT_TRUE(snug.ok());
   EXPECT_LT(snug->converged_max_move_mm, 1e-3);
   auto skirt = Drape(Input(1.1, 1.0));
@@ -210,12 +216,7 @@ TEST_F(DrapeTest, ATightCoarseBandKeepsItsTrianglesOffTheSkin) {
   const core::Mesh band = Tube(0.115, -0.03, 0.03, 2, 12);
   auto model = BuildClothModel(band.positions, band.faces, 0.2);
   ASSERT_TRUE(model.ok());
-  DrapeInput input = Input(1.0, 1.0);
-  input.model = &*model;
-  input.start = band.positions;
-  input.edge_rest = 0.9 * PairLengths(band.positions, model->edges);
-  input.hinge_rest = HingeAngles(band.positions, model->hinges);
-  input.waistband_edges.clear();
+  DrapeInput input = BandInput(band, *model, 0.9);
   input.target_body = 1.2 * mean_.positions;
   auto result = Drape(input);
   ASSERT_TRUE(result.ok()) << result.status();
