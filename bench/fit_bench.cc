@@ -248,6 +248,9 @@ void BM_FitStoredBasis(benchmark::State& state) {
   }
   state.counters["vertices"] = static_cast<double>(message.vertex_count());
   state.counters["guards"] = static_cast<double>(fitter.correspondence().guard_body.size());
+  state.counters["body_points"] =
+      static_cast<double>(fitter.correspondence().body_vertices.size());
+  state.counters["anchors"] = static_cast<double>(fitter.correspondence().anchors_per_vertex);
 }
 
 void BM_ProjectAvatar(benchmark::State& state) {

@@ -120,8 +120,9 @@ struct CleanupScratch {
   std::vector<ClearanceRequest, Eigen::aligned_allocator<ClearanceRequest>> requests;
   std::vector<int32_t> active;  // Vertices the field may move; capacity V.
   std::vector<uint8_t> marked;  // V: in `active`; zero between fits.
-  // Per pushed vertex: its push's direction (xyz) and length (w).
+  // Per pushed vertex: its push (w = 0) and the push's squared length.
   std::vector<Eigen::Vector4f, Eigen::aligned_allocator<Eigen::Vector4f>> held;
+  std::vector<float> held_squared;
 };
 
 // positions: 3V floats (m), xyz interleaved, moved in place; weights: N, checked by the
