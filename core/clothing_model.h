@@ -110,7 +110,9 @@ struct KernelBuildReport {
 // drapes, M >= 1). The inputs are scaled two ways and the leave-one-out error picks one:
 // "sigma" (z_k = w_k / sigma_k) and "response" (z_k = w_k |linear term_k| / sqrt(V): the RMS
 // per-vertex move the linear model gives w_k, so the components this garment follows count
-// most). InvalidArgument for mismatched shapes or non-finite values.
+// most); from it a relevance search (FitKernelRidgeRelevance) gives each component its own
+// scale, "relevance", where that lowers the leave-one-out error. InvalidArgument for
+// mismatched shapes or non-finite values.
 absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& design,
                                                        const Eigen::MatrixXd& drapes,
                                                        const SampledDrapes& samples,

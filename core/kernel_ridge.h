@@ -36,6 +36,33 @@ absl::StatusOr<KernelRidge> FitKernelRidge(const Eigen::MatrixXd& inputs,
                                            const Eigen::MatrixXd& targets,
                                            const KernelRidgeOptions& options = {});
 
+// A relevance search improves the leave-one-out error by at least this share per move, so that
+// it stops where moves only trade rounding.
+inline constexpr double kRelevanceGain = 1e-3;
+
+struct RelevanceOptions {
+  std::vector<double> ridges = {1e-4, 1e-3, 1e-2, 1e-1, 1.0};
+  int sweeps = 4;      // Passes over the inputs; the search stops early when one moves none.
+  double step = 2.0;   // Factor of one move of a scale.
+  int max_steps = 4;   // Moves of one scale in one direction per pass.
+};
+
+struct RelevanceFit {
+  KernelRidge model;       // On the scaled inputs, l = 1: centers = diag(scales) * inputs.
+  Eigen::VectorXd scales;  // d: 1 / the reach of each input (automatic relevance determination).
+};
+
+// One scale per input dimension, z = scales .* x, chosen by coordinate search from
+// initial_scales (d, > 0; e.g. a FitKernelRidge scaling divided by its length scale) on the
+// exact leave-one-out error, with the best ridge of the grid at each step: the inputs the
+// targets follow get a short reach and the others a long one, where one length scale for all
+// must compromise. Each step costs one eigendecomposition of the M x M kernel. Deterministic.
+// InvalidArgument as FitKernelRidge, for scales of the wrong size or not > 0, or bad options.
+absl::StatusOr<RelevanceFit> FitKernelRidgeRelevance(const Eigen::MatrixXd& inputs,
+                                                    const Eigen::MatrixXd& targets,
+                                                    const Eigen::VectorXd& initial_scales,
+                                                    const RelevanceOptions& options = {});
+
 // The prediction at x (d): C values.
 Eigen::VectorXd PredictKernelRidge(const KernelRidge& model, const Eigen::VectorXd& x);
 

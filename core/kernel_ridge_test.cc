@@ -64,6 +64,35 @@ TEST(KernelRidgeTest, PicksTheLengthScaleByLeaveOneOut) {
   EXPECT_LT(chosen.loo_rms, 0.2 * narrow.loo_rms);
 }
 
+TEST(KernelRidgeTest, RelevanceSearchIgnoresAnInputTheTargetsDoNotFollow) {
+  // y = sin(2 x0): x1 is noise the isotropic kernel must measure distances in.
+  Random random(6, 0);
+  Eigen::MatrixXd inputs(2, 120), targets(120, 1);
+  for (int i = 0; i < 120; ++i) {
+    inputs(0, i) = random.Uniform(-2, 2);
+    inputs(1, i) = random.Uniform(-2, 2);
+    targets(i, 0) = std::sin(2 * inputs(0, i));
+  }
+  const KernelRidge isotropic = Fitted(inputs, targets);
+  absl::StatusOr<RelevanceFit> relevance = FitKernelRidgeRelevance(
+      inputs, targets, Eigen::Vector2d::Constant(1 / isotropic.length_scale));
+  ASSERT_TRUE(relevance.ok()) << relevance.status();
+  EXPECT_LT(relevance->scales(1), relevance->scales(0) / 4) << relevance->scales.transpose();
+  EXPECT_LT(relevance->model.loo_rms, 0.5 * isotropic.loo_rms);
+  // The model predicts on the scaled inputs, with l = 1.
+  const Eigen::Vector2d x(0.3, -1.1);
+  EXPECT_NEAR(PredictKernelRidge(relevance->model, relevance->scales.cwiseProduct(x))(0),
+              std::sin(0.6), 0.05);
+  absl::StatusOr<RelevanceFit> again = FitKernelRidgeRelevance(
+      inputs, targets, Eigen::Vector2d::Constant(1 / isotropic.length_scale));
+  EXPECT_TRUE(again->scales == relevance->scales);
+  EXPECT_TRUE(again->model.coefficients == relevance->model.coefficients);
+  EXPECT_THAT(FitKernelRidgeRelevance(inputs, targets, Eigen::Vector2d(1, 0)),
+              StatusIs(absl::StatusCode::kInvalidArgument, "scales > 0"));
+  EXPECT_THAT(FitKernelRidgeRelevance(inputs, targets, Eigen::Vector3d(1, 1, 1)),
+              StatusIs(absl::StatusCode::kInvalidArgument, "2 finite scales"));
+}
+
 TEST(KernelRidgeTest, IsDeterministic) {
   Eigen::MatrixXd inputs, targets;
   Sample(80, 5, inputs, targets);
