@@ -86,6 +86,33 @@ TEST(BodyCorrespondenceTest, AnchorsFromExamplesFollowASlidingVertex) {
   EXPECT_NEAR(positions(0), 0.3, 1e-6);
 }
 
+// The anchors are compared four at a time: the one that follows the vertex still wins from
+// the second group, behind four that do not.
+TEST(BodyCorrespondenceTest, FindsTheNearestAnchorBeyondTheFirstFour) {
+  const CubeBody cube = MakeCube();
+  Positions at_mean(1, 3), lowered(1, 3);
+  at_mean << 0.503, 0.3, 0.0;
+  lowered << 0.3, 0.103, 0.0;
+  const double sqrt8 = std::sqrt(8.0);
+  BodyCorrespondence correspondence = *BuildBodyCorrespondence(
+      {{&at_mean, Eigen::VectorXd::Zero(1)}, {&lowered, Eigen::VectorXd::Constant(1, -0.4 * sqrt8)}},
+      cube.basis, cube.triangles, Triangles(), 0.0025, 2);
+  const Eigen::RowVector3i follows = correspondence.corners.row(1);
+  const Eigen::RowVector3f follows_at = correspondence.barycentric.row(1);
+  correspondence.anchors_per_vertex = 5;
+  correspondence.corners = correspondence.corners.row(0).replicate(5, 1).eval();
+  correspondence.barycentric = correspondence.barycentric.row(0).replicate(5, 1).eval();
+  correspondence.corners.row(4) = follows;
+  correspondence.barycentric.row(4) = follows_at;
+  ASSERT_TRUE(ValidateBodyCorrespondence(correspondence, 1, 1).ok());
+  Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.104f, 0.0f);
+  CleanupScratch scratch;
+  const Eigen::VectorXf customer = Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * sqrt8));
+  EXPECT_EQ(PushOutOfBody(correspondence, customer, scratch, positions.data()), 1);
+  EXPECT_NEAR(positions(1), 0.105 + 0.0025, 1e-6);
+  EXPECT_NEAR(positions(0), 0.3, 1e-6);
+}
+
 TEST(BodyCorrespondenceTest, KeepsOnlyTheBodyVerticesItNeeds) {
   const CubeBody cube = MakeCube();
   Positions garment(1, 3);
