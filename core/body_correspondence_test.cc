@@ -67,21 +67,30 @@ TEST(BodyCorrespondenceTest, PushesOutOnlyTheVerticesTheCustomerBodyReaches) {
 // it sits on the top face. A customer lowered by 0.395 m has the fitted vertex 1 mm inside the
 // top: only the anchor from the second example sees that; the mean's anchor alone would push
 // the vertex 20 cm sideways out of the +x face's plane.
-TEST(BodyCorrespondenceTest, AnchorsFromExamplesFollowASlidingVertex) {
-  const CubeBody cube = MakeCube();
+BodyCorrespondence SlidingVertex(const CubeBody& cube) {
   Positions at_mean(1, 3), lowered(1, 3);
   at_mean << 0.503, 0.3, 0.0;
   lowered << 0.3, 0.103, 0.0;
-  const double sqrt8 = std::sqrt(8.0);
-  const BodyCorrespondence correspondence = *BuildBodyCorrespondence(
-      {{&at_mean, Eigen::VectorXd::Zero(1)}, {&lowered, Eigen::VectorXd::Constant(1, -0.4 * sqrt8)}},
-      cube.basis, cube.triangles, Triangles(), 0.0025, 2);
-  EXPECT_EQ(correspondence.anchors_per_vertex, 2);
-  EXPECT_TRUE(ValidateBodyCorrespondence(correspondence, 1, 1).ok());
+  return *BuildBodyCorrespondence({{&at_mean, Eigen::VectorXd::Zero(1)},
+                                   {&lowered, Eigen::VectorXd::Constant(1, -0.4 * std::sqrt(8.0))}},
+                                  cube.basis, cube.triangles, Triangles(), 0.0025, 2);
+}
+
+// The fitted vertex on the customer lowered by 0.395 m, after the clean-up.
+Eigen::VectorXf CleanUpOnTheLoweredCustomer(const BodyCorrespondence& correspondence) {
   Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.104f, 0.0f);
   CleanupScratch scratch;
-  const Eigen::VectorXf customer = Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * sqrt8));
+  const Eigen::VectorXf customer =
+      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0)));
   EXPECT_EQ(PushOutOfBody(correspondence, customer, scratch, positions.data()), 1);
+  return positions;
+}
+
+TEST(BodyCorrespondenceTest, AnchorsFromExamplesFollowASlidingVertex) {
+  const BodyCorrespondence correspondence = SlidingVertex(MakeCube());
+  EXPECT_EQ(correspondence.anchors_per_vertex, 2);
+  EXPECT_TRUE(ValidateBodyCorrespondence(correspondence, 1, 1).ok());
+  const Eigen::VectorXf positions = CleanUpOnTheLoweredCustomer(correspondence);
   EXPECT_NEAR(positions(1), 0.105 + 0.0025, 1e-6);
   EXPECT_NEAR(positions(0), 0.3, 1e-6);
 }
@@ -89,14 +98,7 @@ TEST(BodyCorrespondenceTest, AnchorsFromExamplesFollowASlidingVertex) {
 // The anchors are compared four at a time: the one that follows the vertex still wins from
 // the second group, behind four that do not.
 TEST(BodyCorrespondenceTest, FindsTheNearestAnchorBeyondTheFirstFour) {
-  const CubeBody cube = MakeCube();
-  Positions at_mean(1, 3), lowered(1, 3);
-  at_mean << 0.503, 0.3, 0.0;
-  lowered << 0.3, 0.103, 0.0;
-  const double sqrt8 = std::sqrt(8.0);
-  BodyCorrespondence correspondence = *BuildBodyCorrespondence(
-      {{&at_mean, Eigen::VectorXd::Zero(1)}, {&lowered, Eigen::VectorXd::Constant(1, -0.4 * sqrt8)}},
-      cube.basis, cube.triangles, Triangles(), 0.0025, 2);
+  BodyCorrespondence correspondence = SlidingVertex(MakeCube());
   const Eigen::RowVector3i follows = correspondence.corners.row(1);
   const Eigen::RowVector3f follows_at = correspondence.barycentric.row(1);
   correspondence.anchors_per_vertex = 5;
@@ -105,10 +107,7 @@ TEST(BodyCorrespondenceTest, FindsTheNearestAnchorBeyondTheFirstFour) {
   correspondence.corners.row(4) = follows;
   correspondence.barycentric.row(4) = follows_at;
   ASSERT_TRUE(ValidateBodyCorrespondence(correspondence, 1, 1).ok());
-  Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.104f, 0.0f);
-  CleanupScratch scratch;
-  const Eigen::VectorXf customer = Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * sqrt8));
-  EXPECT_EQ(PushOutOfBody(correspondence, customer, scratch, positions.data()), 1);
+  const Eigen::VectorXf positions = CleanUpOnTheLoweredCustomer(correspondence);
   EXPECT_NEAR(positions(1), 0.105 + 0.0025, 1e-6);
   EXPECT_NEAR(positions(0), 0.3, 1e-6);
 }
