@@ -224,12 +224,14 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
     // components closely and most others loosely or not at all, which one length scale for all
     // cannot say. A scaling with a zero (a component the linear model does not move the garment
     // by) is not searched.
-    absl::StatusOr<RelevanceFit> relevance = FitKernelRidgeRelevance(
-        features.bottomRows(n), targets, best_scale.matrix() / best->length_scale);
-    if (relevance.ok() && relevance->model.loo_rms < best->loo_rms) {
-      best = std::move(relevance->model);
-      best_scale = relevance->scales.array();
-      chosen.input_scaling = "relevance";
+    if (m >= kRelevanceBodiesPerComponent * n) {
+      absl::StatusOr<RelevanceFit> relevance = FitKernelRidgeRelevance(
+          features.bottomRows(n), targets, best_scale.matrix() / best->length_scale);
+      if (relevance.ok() && relevance->model.loo_rms < best->loo_rms) {
+        best = std::move(relevance->model);
+        best_scale = relevance->scales.array();
+        chosen.input_scaling = "relevance";
+      }
     }
     const double discarded = std::max(0.0, total - kept);
     chosen.length_scale = best->length_scale;

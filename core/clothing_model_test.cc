@@ -185,11 +185,12 @@ double RmsError(const ClothingModel& model, const ExampleDesign& design,
   return std::sqrt(squared / static_cast<double>(weights.cols() * kVertices));
 }
 
-ClothingModel KernelModel(const ExampleDesign& design, KernelBuildReport* report) {
+ClothingModel KernelModel(const ExampleDesign& design, KernelBuildReport* report,
+                          int sample_count = 120) {
   Eigen::MatrixXd examples(kComponents, design.example_count());
   for (int e = 0; e < design.example_count(); ++e) examples.col(e) = design.Weights(e);
   SampledDrapes samples;
-  samples.weights = SampleWeights(design, 120, 1);
+  samples.weights = SampleWeights(design, sample_count, 1);
   samples.drapes = SmoothDrape(design, samples.weights);
   absl::StatusOr<ClothingModel> model = BuildKernelClothingModel(
       design, SmoothDrape(design, examples), samples, KernelBuildOptions{}, report);
@@ -224,6 +225,15 @@ TEST(KernelClothingModelTest, LearnsWhatTheLinearModelMissesOnNewBodies) {
   // At the mean body the linear model is exact and the correction adds next to nothing.
   EXPECT_LT((Fit(kernel, Eigen::VectorXd::Zero(kComponents)) - linear.mean()).cwiseAbs().maxCoeff(),
             2e-4);
+}
+
+TEST(KernelClothingModelTest, KeepsOneLengthScaleWithFewTrainingBodies) {
+  const ExampleDesign design = Design();
+  KernelBuildReport report;
+  // 9 axis examples and 20 samples: fewer than kRelevanceBodiesPerComponent per component.
+  const ClothingModel kernel = KernelModel(design, &report, 20);
+  EXPECT_THAT(report.input_scaling, ::testing::AnyOf("sigma", "response"));
+  EXPECT_TRUE(ValidateClothingModel(kernel).ok());
 }
 
 TEST(KernelClothingModelTest, FallsBackToTheLinearModelFarFromEveryTrainingBody) {
