@@ -119,8 +119,7 @@ inline constexpr int kRelevanceBodiesPerComponent = 10;
 // per-vertex move the linear model gives w_k, so the components this garment follows count
 // most); from it, with at least kRelevanceBodiesPerComponent bodies per component, a relevance
 // search (FitKernelRidgeRelevance) gives each component its own scale, "relevance", where that
-// lowers the leave-one-out error. InvalidArgument for
-// mismatched shapes or non-finite values.
+// lowers the leave-one-out error. InvalidArgument for mismatched shapes or non-finite values.
 absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& design,
                                                        const Eigen::MatrixXd& drapes,
                                                        const SampledDrapes& samples,
