@@ -445,8 +445,8 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
   }
   Eigen::VectorXf& garment4 = scratch.garment4;
   const Eigen::Index guard_count = correspondence.guard_triangles.rows();
-  if (guard_count > 0 && garment4.size() != 4 * vertex_count) garment4.setZero(4 * vertex_count);
   if (guard_count > 0) {
+    if (garment4.size() != 4 * vertex_count) garment4.setZero(4 * vertex_count);
     for (Eigen::Index v = 0; v < vertex_count; ++v) {
       garment4.segment<3>(4 * v) = Eigen::Map<const Eigen::Vector3f>(positions + 3 * v);
     }

@@ -1,6 +1,7 @@
 #ifndef FITBASE_CORE_KERNEL_RIDGE_H_
 #define FITBASE_CORE_KERNEL_RIDGE_H_
 
+#include <iterator>
 #include <vector>
 
 #include "Eigen/Core"
@@ -21,10 +22,13 @@ struct KernelRidge {
   double train_rms = 0.0;         // RMS over the M points of |y|: what predicting 0 would miss.
 };
 
+// The ridges the leave-one-out error chooses from, relative to k(x, x) = 1.
+inline constexpr double kRidgeGrid[] = {1e-4, 1e-3, 1e-2, 1e-1, 1.0};
+
 struct KernelRidgeOptions {
   // Candidates for l, as multiples of the median distance between two training inputs.
   std::vector<double> length_scale_factors = {0.25, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0};
-  std::vector<double> ridges = {1e-4, 1e-3, 1e-2, 1e-1, 1.0};
+  std::vector<double> ridges{std::begin(kRidgeGrid), std::end(kRidgeGrid)};
 };
 
 // inputs: d x M (d >= 1, M >= 2), targets: M x C (C >= 1), all finite. Chooses l and lambda
@@ -41,7 +45,7 @@ absl::StatusOr<KernelRidge> FitKernelRidge(const Eigen::MatrixXd& inputs,
 inline constexpr double kRelevanceGain = 1e-3;
 
 struct RelevanceOptions {
-  std::vector<double> ridges = {1e-4, 1e-3, 1e-2, 1e-1, 1.0};
+  std::vector<double> ridges{std::begin(kRidgeGrid), std::end(kRidgeGrid)};
   int sweeps = 4;      // Passes over the inputs; the search stops early when one moves none.
   double step = 2.0;   // Factor of one move of a scale.
   int max_steps = 4;   // Moves of one scale in one direction per pass.
