@@ -1,5 +1,6 @@
 #include "pipeline/skin_visibility.h"
 
+#include <cmath>
 #include <vector>
 
 #include "Eigen/Geometry"
@@ -87,12 +88,30 @@ absl::StatusOr<SkinVisibility> MeasureVisibleSkin(const DressedBody& reference,
     images.push_back(std::move(image));
   }
   SkinVisibility result;
-  const std::vector<int32_t>& cloth = images[0].layer_index;
-  const std::vector<int32_t>& shown = images[1].layer_index;
-  for (size_t i = 0; i < cloth.size(); ++i) {
-    if (cloth[i] != kGarmentLayer) continue;
-    ++result.cloth_pixels;
-    result.skin_pixels += shown[i] == kBodyLayer;
+  const core::RenderedImage& drape = images[0];
+  const core::RenderedImage& fit = images[1];
+  const int band = static_cast<int>(std::ceil(kClothEdgeBand * drape.pixels_per_meter));
+  // Whether the reference shows anything but its garment within `band` pixels of (x, y); the
+  // image's border counts as an edge.
+  const auto near_edge = [&](int x, int y) {
+    for (int v = y - band; v <= y + band; ++v) {
+      for (int u = x - band; u <= x + band; ++u) {
+        if (u < 0 || v < 0 || u >= drape.width || v >= drape.height ||
+            drape.LayerAt(u, v) != kGarmentLayer) {
+          return true;
+        }
+      }
+    }
+    return false;
+  };
+  for (int y = 0; y < drape.height; ++y) {
+    for (int x = 0; x < drape.width; ++x) {
+      if (drape.LayerAt(x, y) != kGarmentLayer) continue;
+      ++result.cloth_pixels;
+      if (fit.LayerAt(x, y) != kBodyLayer) continue;
+      ++result.skin_pixels;
+      result.edge_skin_pixels += near_edge(x, y);
+    }
   }
   return result;
 }

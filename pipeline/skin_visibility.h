@@ -13,16 +13,31 @@ inline constexpr int kSkinViewHeight = 600;
 
 // Skin through cloth, as a shopper sees it: pixels of the front and side views (orthographic,
 // z-buffered, one framing for both scenes) where the reference shows the garment and the
-// candidate shows the body, over the pixels where the reference shows the garment.
+// candidate shows the body, over the pixels where the reference shows the garment; of them,
+// those along the reference garment's edges apart (kClothEdgeBand).
 struct SkinVisibility {
   int64_t cloth_pixels = 0;  // The reference's garment pixels.
   int64_t skin_pixels = 0;   // Of those, the candidate's body pixels.
+  // Of those, the ones within kClothEdgeBand of a pixel where the reference shows no garment
+  // (MeasureVisibleSkin only).
+  int64_t edge_skin_pixels = 0;
 
-  double share() const {
-    return cloth_pixels > 0 ? static_cast<double>(skin_pixels) / static_cast<double>(cloth_pixels)
+  double share() const { return Share(skin_pixels); }
+  // Skin away from the garment's edges: the body through the cloth itself.
+  double inside_share() const { return Share(skin_pixels - edge_skin_pixels); }
+
+ private:
+  double Share(int64_t pixels) const {
+    return cloth_pixels > 0 ? static_cast<double>(pixels) / static_cast<double>(cloth_pixels)
                             : 0.0;
   }
 };
+
+// A fit whose hem, cuff, neckline or waistband lies a few millimetres from the drape's shows a
+// line of skin along it, a pixel or two wide at 600 px (a pixel is about 3 mm): that is the
+// edge in another place, not the body through the cloth. Skin pixels this close (m) to where
+// the reference's garment ends are counted apart.
+inline constexpr double kClothEdgeBand = 0.01;
 
 // A garment worn on a body: positions (m, +Y up, +Z front) and their triangles.
 struct DressedBody {

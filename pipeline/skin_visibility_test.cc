@@ -68,11 +68,32 @@ TEST(SkinVisibilityTest, CountsTheClothThatSinksUnderTheSkin) {
   // The frame is the union of both scenes: 1.0 m tall, at 600 - 2 x 30 px.
   const double side_px = 0.2 * (600 - 60) / 1.0;
   EXPECT_NEAR(skin->cloth_pixels, side_px * side_px, 0.03 * side_px * side_px);
+  // The sunk half's outer border, kClothEdgeBand wide, lies along the drape's edge; the rest of
+  // it is the body through the cloth.
+  const double band_px = std::ceil(kClothEdgeBand * (600 - 60) / 1.0);
+  EXPECT_NEAR(skin->inside_share(), (0.5 - band_px / side_px) * (1 - 2 * band_px / side_px),
+              0.02);
   // Against the fit as reference, the sunk half shows no cloth at all.
   const absl::StatusOr<SkinVisibility> reverse = MeasureVisibleSkin(fit, drape);
   ASSERT_TRUE(reverse.ok()) << reverse.status();
   EXPECT_EQ(reverse->skin_pixels, 0);
   EXPECT_NEAR(reverse->cloth_pixels, 0.5 * skin->cloth_pixels, 0.03 * skin->cloth_pixels);
+}
+
+TEST(SkinVisibilityTest, AHemAFewMillimetresHigherIsAnEdgeNotSkinThroughTheCloth) {
+  const Box body = BodyBox();
+  const core::Positions draped = Patch(0.11, 0.11);
+  core::Positions raised = draped;
+  raised.col(1).array() += 0.006;
+  const core::Triangles triangles = PatchTriangles();
+  const absl::StatusOr<SkinVisibility> skin =
+      MeasureVisibleSkin({&body.positions, &body.triangles, &draped, &triangles},
+                         {&body.positions, &body.triangles, &raised, &triangles});
+  ASSERT_TRUE(skin.ok()) << skin.status();
+  // The lowest 6 mm of the drape's cloth shows skin in the front view: 0.006 / 0.2 of it.
+  EXPECT_NEAR(skin->share(), 0.03, 0.01);
+  EXPECT_EQ(skin->edge_skin_pixels, skin->skin_pixels);
+  EXPECT_EQ(skin->inside_share(), 0.0);
 }
 
 // The box and, 5 cm before the patch's left half, a 0.1 m cube standing for a forearm.

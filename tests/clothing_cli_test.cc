@@ -254,6 +254,11 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
     EXPECT_GE(row.visible_skin(), 0) << row.method();
     EXPECT_LE(row.visible_skin(), row.visible_skin_max()) << row.method();
     EXPECT_LE(row.visible_skin_max(), 1) << row.method();
+    // Skin inside the cloth is part of it, away from the drape's edges.
+    EXPECT_GE(row.visible_skin_inside(), 0) << row.method();
+    EXPECT_LE(row.visible_skin_inside(), row.visible_skin()) << row.method();
+    EXPECT_LE(row.visible_skin_inside(), row.visible_skin_inside_max()) << row.method();
+    EXPECT_LE(row.visible_skin_inside_max(), row.visible_skin_max()) << row.method();
   }
   // The drapes themselves are judged too: skin through their own cloth.
   const v1::GarmentAccuracy& garment = report.garments(0);
