@@ -5,6 +5,8 @@
 //   - BM_Fit{TermMajor,VertexMajor}/N/V: one customer, N components, V garment vertices, with
 //     the basis (mean and terms) stored term-major (each contiguous) or vertex-major; counter
 //     `of_bandwidth` is the fit's byte rate over the streaming-read rate;
+//   - BM_FitPortable/N/V: TermMajor's product without the AVX path (core::MultiplyAccumulate),
+//     the same bytes: TermMajor's time over this one is what the runtime dispatch buys here;
 //   - BM_FitBatch64/N/V: 64 customers as one matrix product; `of_sgemm` is its FLOP rate
 //     over the SGEMM rate;
 //   - BM_FitKernel/N/V: the kernel model (N terms, 2N + 1 + 400 training bodies, 32 outputs);
@@ -22,6 +24,7 @@
 #include "benchmark/benchmark.h"
 #include "core/clothing_fitter.h"
 #include "core/clothing_model.h"
+#include "core/matrix_vector.h"
 #include "core/pca_basis.h"
 #include "fitbase/v1/clothing_basis.pb.h"
 #include "proto/clothing_basis_codec.h"
@@ -104,6 +107,21 @@ void BM_FitTermMajor(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
   }
   SetShareOfBandwidth(state, FitBytes(n, v));
+}
+
+void BM_FitPortable(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
+  const core::ClothingModel model = MakeModel(n, v);
+  Eigen::VectorXf features(n + 1);
+  features << 1, Weights(n);
+  Eigen::VectorXf out(3 * v);
+  for (auto _ : state) {
+    out.setZero();
+    core::MultiplyAccumulatePortable(model.basis, features, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  SetShareOfBandwidth(state, FitBytes(n, v));
+  state.counters["avx_path"] = core::MultiplyAccumulateUsesAvx();
 }
 
 void BM_FitVertexMajor(benchmark::State& state) {
@@ -290,6 +308,7 @@ class LimitCapture : public benchmark::ConsoleReporter {
 BENCHMARK(BM_StreamRead);
 BENCHMARK(BM_Sgemm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FitTermMajor)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FitPortable)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitVertexMajor)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitBatch64)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitKernel)->Args({20, 2000})->Args({20, 8000})->Args({30, 8000})

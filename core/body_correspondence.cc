@@ -9,6 +9,7 @@
 
 #include "Eigen/Geometry"
 #include "absl/strings/str_cat.h"
+#include "core/matrix_vector.h"
 #include "core/status_macros.h"
 #include "core/triangle_bvh.h"
 
@@ -385,7 +386,7 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
                       CleanupScratch& scratch, float* positions) {
   Eigen::VectorXf& body = scratch.body;
   body = correspondence.body_mean;
-  body.noalias() += correspondence.body_components * weights;
+  MultiplyAccumulate(correspondence.body_components, weights, body);
   const float offset = static_cast<float>(correspondence.offset);
   const int k = correspondence.anchors_per_vertex;
   const Eigen::Index vertex_count = correspondence.vertex_count();
@@ -428,20 +429,22 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
       }
     }
     // Only the nearest anchor's plane is needed: its normal is computed once, not per anchor.
+    // The anchor lies in its triangle's plane, so the height is measured from a corner; times
+    // |cross|, so that a vertex clear of the plane is passed over without a root or a division.
     const int32_t* c = anchor_corners + 3 * nearest;
     const F4 a = point4(c[0]);
-    F4 normal = Cross(point4(c[1]) - a, point4(c[2]) - a);
-    const float length = std::sqrt(Dot(normal, normal));
-    if (!(length > 0)) continue;
-    normal /= length;
-    const float distance = Dot(g - anchor4(nearest), normal);
-    if (distance < offset) {
-      const int32_t i = static_cast<int32_t>(v);
-      requests.push_back({{i, i, i},
-                          {1, 0, 0},
-                          Eigen::Vector4f(normal[0], normal[1], normal[2], 0),
-                          offset - distance});
-    }
+    const F4 cross = Cross(point4(c[1]) - a, point4(c[2]) - a);
+    const float area2 = Dot(cross, cross);
+    if (!(area2 > 0)) continue;
+    const float scaled = Dot(g - a, cross);
+    if (scaled >= 0 && scaled * scaled >= offset * offset * area2) continue;
+    const float length = std::sqrt(area2);
+    const F4 normal = cross / length;
+    const int32_t i = static_cast<int32_t>(v);
+    requests.push_back({{i, i, i},
+                        {1, 0, 0},
+                        Eigen::Vector4f(normal[0], normal[1], normal[2], 0),
+                        offset - scaled / length});
   }
   Eigen::VectorXf& garment4 = scratch.garment4;
   const Eigen::Index guard_count = correspondence.guard_triangles.rows();

@@ -7,6 +7,7 @@
 #include "Eigen/Eigenvalues"
 #include "absl/strings/str_cat.h"
 #include "core/kernel_ridge.h"
+#include "core/matrix_vector.h"
 #include "core/status_macros.h"
 
 namespace fitbase::core {
@@ -350,7 +351,8 @@ void FitClothing(const ClothingModel& model, const Eigen::VectorXf& weights,
                  Eigen::VectorXf& features, Eigen::VectorXf& out) {
   features.resize(model.basis.cols());
   ComputeFeatures(model, weights, features);
-  out.noalias() = model.basis * features;
+  out.setZero(model.basis.rows());
+  MultiplyAccumulate(model.basis, features, out);
 }
 
 void FitClothingBatch(const ClothingModel& model, const Eigen::MatrixXf& weights,
