@@ -23,6 +23,7 @@ struct EvalFlags {
   int holdout = 20;
   uint64_t seed = 2;
   std::string preset;
+  std::string truth_body = "own";
   std::string methods = "paper,linear,quadratic,nearest,geometric";
   double scale = 1.0;
   int samples = 0;
@@ -56,6 +57,7 @@ absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
   spec.holdout_count = flags.holdout;
   spec.holdout_seed = flags.seed;
   spec.preset = flags.preset;
+  spec.truth_on_weights_body = flags.truth_body == "weights";
   spec.methods = absl::StrSplit(flags.methods, ',', absl::SkipWhitespace());
   spec.example_scale = flags.scale;
   spec.sampled_drapes = flags.samples;
@@ -104,6 +106,11 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
                    "Seed of the held-out avatars; use another than the basis's (default: 2)");
   eval->add_option("--preset", flags->preset,
                    "Population of the held-out avatars (default: the basis's)");
+  eval->add_option("--truth-body", flags->truth_body,
+                   "What the ground-truth drapes are on: own (each held-out avatar's mesh) or "
+                   "weights (its body of the weights, which the fit is made for: the error "
+                   "without the projection's part) (default: own)")
+      ->check(CLI::IsMember({"own", "weights"}));
   eval->add_option("--methods", flags->methods,
                    "Comma-separated: paper, linear, quadratic, kernel, nearest, geometric "
                    "(default: all but kernel)");

@@ -25,6 +25,10 @@ struct AccuracyEvalSpec {
   int holdout_count = 20;
   uint64_t holdout_seed = 2;
   std::string preset;  // Empty: the basis's own population preset.
+  // The ground truth draped on each held-out avatar's body of the weights (mean + Phi w, the
+  // body the fit is made for) instead of its own mesh, and penetration measured against that
+  // body: the error without the projection's part.
+  bool truth_on_weights_body = false;
   // Any of paper, linear, quadratic, kernel (needs sampled_drapes), nearest, geometric.
   std::vector<std::string> methods = {"paper", "linear", "quadratic", "nearest", "geometric"};
   double example_scale = 1.0;
