@@ -52,11 +52,7 @@ __attribute__((target("avx"))) void AvxColumns(const float* m, Eigen::Index rows
       _mm256_storeu_ps(out + i + 24, a3);
     }
   }
-  for (Eigen::Index k = 0; k < cols; ++k) {
-    const float s = x[k];
-    const float* column = m + k * stride;
-    for (Eigen::Index r = blocked; r < rows; ++r) out[r] = out[r] + s * column[r];
-  }
+  PortableColumns(m + blocked, rows - blocked, cols, stride, x, out + blocked);
 }
 #endif
 
