@@ -164,20 +164,16 @@ absl::StatusOr<std::vector<Holdout>> MakeHoldouts(const core::BodyModel& body_mo
     ASSIGN_OR_RETURN(core::Mesh body, body_model.BuildBody(params));
     ASSIGN_OR_RETURN(v1::AvatarWeights weights, ProjectAvatar(basis, body));
     error_sum += weights.mean_error_mm();
-    ASSIGN_OR_RETURN(core::TriangleBvh surface,
-                     core::TriangleBvh::Build(body.positions, triangles));
     const Eigen::VectorXf w =
         Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
             .cast<float>();
-    const Eigen::VectorXd weights_body = core::ReconstructFromWeights(basis.pca, w.cast<double>());
-    if (spec.truth_on_weights_body) {
-      body.positions =
-          Eigen::Map<const core::Positions>(weights_body.data(), weights_body.size() / 3, 3);
-      ASSIGN_OR_RETURN(surface, core::TriangleBvh::Build(body.positions, triangles));
-    }
-    holdouts.push_back({body.positions, std::move(surface), w,
-                        Eigen::Map<const core::Positions>(weights_body.data(),
-                                                          weights_body.size() / 3, 3)});
+    const Eigen::VectorXd flat = core::ReconstructFromWeights(basis.pca, w.cast<double>());
+    const core::Positions weights_body =
+        Eigen::Map<const core::Positions>(flat.data(), flat.size() / 3, 3);
+    if (spec.truth_on_weights_body) body.positions = weights_body;
+    ASSIGN_OR_RETURN(core::TriangleBvh surface,
+                     core::TriangleBvh::Build(body.positions, triangles));
+    holdouts.push_back({body.positions, std::move(surface), w, weights_body});
   }
   *error_mean_mm = spec.holdout_count ? error_sum / spec.holdout_count : 0;
   return holdouts;
