@@ -595,6 +595,9 @@ int Main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--waistband-stiffness", settings.waistband_stiffness,
                  "N/m of a waistband's elastic (0: none, the default)");
+  app.add_option("--waistband-grip", settings.waistband_grip,
+                 "A waistband elastic's rest length as a share of the band's")
+      ->check(CLI::Range(0.01, 1.0));
   app.add_option("--waistband-anchor", settings.waistband_anchor_stiffness,
                  "N/m holding an elastic waistband's height");
   app.add_option("--out", out, "Folder for the imported garments (reused when present)");

@@ -11,6 +11,7 @@
 #include "proto/garment_codec.h"
 #include "proto/json_codec.h"
 #include "proto/message_file.h"
+#include "workers/cloth_solver.h"
 #include "workers/garment_drape.h"
 
 namespace fitbase::cli {
@@ -23,6 +24,7 @@ struct DrapeFlags {
   std::string out;
   std::string report;
   std::string method = "drape";
+  bool supports = false;
   workers::DrapeSchedule schedule;
 };
 
@@ -31,13 +33,18 @@ absl::Status RunDrape(const DrapeFlags& flags) {
     return absl::InvalidArgumentError(
         absl::StrCat("--method is '", flags.method, "'; expected drape or geometric"));
   }
+  if (flags.supports && flags.method != "drape") {
+    return absl::InvalidArgumentError("--supports is a setting of the physics drape only");
+  }
   v1::Garment garment;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.garment, &garment));
   ASSIGN_OR_RETURN(core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
   ASSIGN_OR_RETURN(workers::GarmentFit fit,
                    flags.method == "drape"
-                       ? workers::DrapeGarment(garment, flags.size, avatar.positions, {},
-                                               flags.schedule)
+                       ? workers::DrapeGarment(
+                             garment, flags.size, avatar.positions,
+                             flags.supports ? workers::WithSupports({}) : workers::ClothSettings{},
+                             flags.schedule)
                        : workers::GeometricFit(garment, flags.size, avatar.positions));
   ASSIGN_OR_RETURN(core::GarmentMesh mesh, proto::GarmentTemplateFromProto(garment));
   mesh.mesh.positions = fit.positions;
@@ -106,6 +113,9 @@ void AddDrapeCommand(CLI::App& app, CliContext& context) {
   AddDrapeScheduleOptions(drape, flags->schedule);
   drape->add_option("--method", flags->method,
                     "drape (physics, default) or geometric (the .mhclo binding baseline)");
+  drape->add_flag("--supports", flags->supports,
+                  "Elastic waistbands held at their height, for bodies far from the mean "
+                  "(README \"Bodies far from the mean\"; not yet the default)");
   drape->callback([&context, flags] { context.action = [flags] { return RunDrape(*flags); }; });
 }
 

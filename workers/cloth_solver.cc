@@ -110,6 +110,12 @@ class ClothSolver::HessianPattern {
   std::vector<int> inner_;
 };
 
+ClothSettings WithSupports(ClothSettings settings) {
+  settings.waistband_stiffness = 3000;
+  settings.waistband_anchor_stiffness = 2000;
+  return settings;
+}
+
 ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
                          Eigen::VectorXd edge_rest, Eigen::VectorXd hinge_rest,
                          const std::vector<int32_t>& waistband_edges,
