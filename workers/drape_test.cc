@@ -104,7 +104,7 @@ TEST_F(DrapeTest, TheWaistbandsElasticGripsTheWaist) {
 // skin below.
 class LongerBodyTest : public DrapeTest {
  protected:
-  DrapeInput Longer() {
+  DrapeInput Longer() const {
     DrapeInput input = Input(1.0, 1.0);
     for (Eigen::Index v = 0; v < input.target_body.rows(); ++v) {
       if (input.target_body(v, 1) < 0) input.target_body(v, 1) *= 1.4;
