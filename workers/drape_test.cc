@@ -135,12 +135,13 @@ TEST_F(LongerBodyTest, ATieLimitKeepsTheStictionFromDraggingTheWaistbandDown) {
 }
 
 TEST_F(LongerBodyTest, TheSupportsHoldTheWaistbandAgainstUnlimitedStiction) {
-  ClothSettings soft = WithSupports({});
+  const ClothSettings supports = WithSupports({});
+  ClothSettings soft = supports;
   soft.waistband_anchor_stiffness = soft.anchor_stiffness;
-  auto supported = Drape(Longer(), WithSupports({}));
+  auto supported = Drape(Longer(), supports);
   auto held_softly = Drape(Longer(), soft);
   ASSERT_TRUE(supported.ok() && held_softly.ok());
-  EXPECT_EQ(WithSupports({}).tie_limit, 0);
+  EXPECT_EQ(supports.tie_limit, 0);
   EXPECT_NEAR(BandHeight(*supported), 0.0, 0.003);
   EXPECT_LT(BandHeight(*held_softly), BandHeight(*supported) - 0.003);
 }
