@@ -569,6 +569,7 @@ int Main(int argc, char** argv) {
   std::string basis_path, data = "data/makehuman", garments = "all", sizes = "S,M,XL", out, rows;
   int jobs = 2;
   bool smoothness = false, smoothness_only = false, supports = false, speed = false;
+  bool unsupported = false;
   int extremes = 10;
   workers::ClothSettings settings;
   app.add_option("--basis", basis_path, "Avatar basis (.fbb) with avatar parameters")->required();
@@ -593,16 +594,25 @@ int Main(int argc, char** argv) {
   app.add_option("--anchor", settings.anchor_stiffness,
                  "N/m holding a top opening's height on the body (default: ClothSettings's)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--waistband-stiffness", settings.waistband_stiffness,
-                 "N/m of a waistband's elastic (0: none, the default)");
-  app.add_option("--waistband-grip", settings.waistband_grip,
-                 "A waistband elastic's rest length as a share of the band's")
-      ->check(CLI::Range(0.01, 1.0));
-  app.add_option("--waistband-anchor", settings.waistband_anchor_stiffness,
-                 "N/m holding an elastic waistband's height");
+  CLI::Option* band_stiffness =
+      app.add_option("--waistband-stiffness", settings.waistband_stiffness,
+                     "N/m of a waistband's elastic (0: none; default: ClothSettings's)");
+  CLI::Option* band_grip =
+      app.add_option("--waistband-grip", settings.waistband_grip,
+                     "A waistband elastic's rest length as a share of the band's")
+          ->check(CLI::Range(0.01, 1.0));
+  CLI::Option* band_anchor =
+      app.add_option("--waistband-anchor", settings.waistband_anchor_stiffness,
+                     "N/m holding an elastic waistband's height (default: ClothSettings's)");
+  app.add_flag("--unsupported", unsupported,
+               "Drape without the supports (workers::WithoutSupports), as before them")
+      ->excludes(band_stiffness)
+      ->excludes(band_grip)
+      ->excludes(band_anchor);
   app.add_option("--out", out, "Folder for the imported garments (reused when present)");
   app.add_option("--rows", rows, "CSV file for one row per drape of the population table");
   CLI11_PARSE(app, argc, argv);
+  if (unsupported) settings = workers::WithoutSupports(settings);
 
   v1::AvatarBasis basis;
   if (auto s = proto::ReadMessageFile(basis_path, &basis); !s.ok()) {

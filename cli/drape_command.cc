@@ -24,7 +24,7 @@ struct DrapeFlags {
   std::string out;
   std::string report;
   std::string method = "drape";
-  bool supports = false;
+  bool no_supports = false;
   workers::DrapeSchedule schedule;
 };
 
@@ -33,8 +33,8 @@ absl::Status RunDrape(const DrapeFlags& flags) {
     return absl::InvalidArgumentError(
         absl::StrCat("--method is '", flags.method, "'; expected drape or geometric"));
   }
-  if (flags.supports && flags.method != "drape") {
-    return absl::InvalidArgumentError("--supports is a setting of the physics drape only");
+  if (flags.no_supports && flags.method != "drape") {
+    return absl::InvalidArgumentError("--no-supports is a setting of the physics drape only");
   }
   v1::Garment garment;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.garment, &garment));
@@ -43,7 +43,8 @@ absl::Status RunDrape(const DrapeFlags& flags) {
                    flags.method == "drape"
                        ? workers::DrapeGarment(
                              garment, flags.size, avatar.positions,
-                             flags.supports ? workers::WithSupports({}) : workers::ClothSettings{},
+                             flags.no_supports ? workers::WithoutSupports({})
+                                               : workers::ClothSettings{},
                              flags.schedule)
                        : workers::GeometricFit(garment, flags.size, avatar.positions));
   ASSIGN_OR_RETURN(core::GarmentMesh mesh, proto::GarmentTemplateFromProto(garment));
@@ -113,9 +114,9 @@ void AddDrapeCommand(CLI::App& app, CliContext& context) {
   AddDrapeScheduleOptions(drape, flags->schedule);
   drape->add_option("--method", flags->method,
                     "drape (physics, default) or geometric (the .mhclo binding baseline)");
-  drape->add_flag("--supports", flags->supports,
-                  "Elastic waistbands held at their height, for bodies far from the mean "
-                  "(README \"Bodies far from the mean\"; not yet the default)");
+  drape->add_flag("--no-supports", flags->no_supports,
+                  "Without the supports for bodies far from the mean (an elastic waistband "
+                  "held at its height), as drapes were before them");
   drape->callback([&context, flags] { context.action = [flags] { return RunDrape(*flags); }; });
 }
 

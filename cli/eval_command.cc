@@ -29,6 +29,7 @@ struct EvalFlags {
   int samples = 0;
   uint64_t sample_seed = 1;
   int jobs = 2;
+  bool no_supports = false;
   workers::DrapeSchedule schedule;
   std::string cache;
   std::string out;
@@ -62,6 +63,7 @@ absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
   spec.example_scale = flags.scale;
   spec.sampled_drapes = flags.samples;
   spec.sample_seed = flags.sample_seed;
+  spec.settings = flags.no_supports ? workers::WithoutSupports({}) : workers::ClothSettings{};
   spec.schedule = flags.schedule;
   spec.run = {.cache_dir = flags.cache.empty() ? out / "drapes" : fs::path(flags.cache),
               .jobs = flags.jobs,
@@ -125,6 +127,9 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
       ->check(CLI::PositiveNumber);
   eval->add_option("--jobs", flags->jobs, "Drapes side by side (default: 2)")
       ->check(CLI::Range(1, 256));
+  eval->add_flag("--no-supports", flags->no_supports,
+                 "Drape without the supports for bodies far from the mean (an elastic "
+                 "waistband held at its height), as drapes were before them");
   AddDrapeScheduleOptions(eval, flags->schedule);
   eval->add_option("--cache", flags->cache,
                    "Folder of drape results reused by content key (default: OUT/drapes)");

@@ -106,24 +106,24 @@ TEST_F(GarmentCliTest, SizeChangesTheDrapeButNotTheGeometricFit) {
             *core::ReadFileToString(*dir_ / "geo_xl.obj"));
 }
 
-TEST_F(GarmentCliTest, SupportsChangeTheDrapeAndAreTheDrapesOnly) {
-  // female_sportsuit01's leggings have a waistband, which --supports makes elastic.
-  ASSERT_EQ(Drape("M", "plain").exit_code, 0);
+TEST_F(GarmentCliTest, TurningTheSupportsOffChangesTheDrapeAndIsTheDrapesOnly) {
+  // female_sportsuit01's leggings have a waistband, whose elastic --no-supports takes away.
+  ASSERT_EQ(Drape("M", "supported").exit_code, 0);
   const std::vector<std::string> args = {
-      "drape",    "--garment", (*dir_ / "g.fbg").string(), "--avatar", Avatar().string(),
-      "--supports", "--out"};
-  std::vector<std::string> supported = args;
-  supported.push_back((*dir_ / "supported.obj").string());
-  const Result r = RunFitbase(supported);
+      "drape",         "--garment", (*dir_ / "g.fbg").string(), "--avatar", Avatar().string(),
+      "--no-supports", "--out"};
+  std::vector<std::string> unsupported = args;
+  unsupported.push_back((*dir_ / "unsupported.obj").string());
+  const Result r = RunFitbase(unsupported);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("waistband"));
-  EXPECT_NE(*core::ReadFileToString(*dir_ / "supported.obj"),
-            *core::ReadFileToString(*dir_ / "plain.obj"));
+  EXPECT_NE(*core::ReadFileToString(*dir_ / "unsupported.obj"),
+            *core::ReadFileToString(*dir_ / "supported.obj"));
   std::vector<std::string> geometric = args;
   geometric.insert(geometric.end(), {(*dir_ / "geo.obj").string(), "--method", "geometric"});
   const Result bad = RunFitbase(geometric);
   EXPECT_NE(bad.exit_code, 0);
-  EXPECT_THAT(bad.err, HasSubstr("--supports is a setting of the physics drape only"));
+  EXPECT_THAT(bad.err, HasSubstr("--no-supports is a setting of the physics drape only"));
   EXPECT_FALSE(fs::exists(*dir_ / "geo.obj"));
 }
 

@@ -110,9 +110,9 @@ class ClothSolver::HessianPattern {
   std::vector<int> inner_;
 };
 
-ClothSettings WithSupports(ClothSettings settings) {
-  settings.waistband_stiffness = 3000;
-  settings.waistband_anchor_stiffness = 2000;
+ClothSettings WithoutSupports(ClothSettings settings) {
+  settings.waistband_stiffness = 0;
+  settings.waistband_anchor_stiffness = settings.anchor_stiffness;
   return settings;
 }
 

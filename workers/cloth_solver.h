@@ -70,19 +70,23 @@ struct ClothSettings {
   // either side) and the path decides; with it the drape is one smooth function of the body.
   // Weak next to the stretch springs: it does not stop a garment stretching or lifting off.
   double skin_tie = 1e4;
-  // Supports for bodies far from the mean, off by default until they keep every garment's
-  // drape smooth (README, "Bodies far from the mean"; issue "The drape is true far from the
-  // mean"); WithSupports turns on the ones that keep most of them smooth.
+  // Supports for bodies far from the mean (README, "Bodies far from the mean"; issue "The drape
+  // is true far from the mean"): an elastic waistband held at its height, below. On by
+  // default: without them a tall body's stiction drags leggings' bands 20 cm down the rise.
+  // Their cost: the folds of fabric gathered on the elastic jump between nearby bodies on 3 of
+  // the 12 shared garments (p99 2.2 to 4.9 mm at 0.1 sigma, all under 2 mm without), and the
+  // fast fit learns the supported drapes better (kernel 5.41 mm against 5.54 at 100 samples).
+  // WithoutSupports turns them off, to compare.
   // With `tie_limit` > 0 the stiction gives way like friction: its force grows with the slip
   // up to `tie_limit` times the vertex's weight, then stays (a Huber energy). Unbounded, the
   // ties of a whole trouser leg drag the hems down with the ankles of a tall body and the
   // waistband with them; bounded, cloth slides along a longer limb and hems ride up. The limit
   // is per vertex, not mu times the contact's normal force: Coulomb friction lagged a step (as
   // IPC does) made the drape depend on the path (female_casualsuit01: second difference 50 mm
-  // at 0.1 sigma, doubling the schedule moved it 12 mm). Not among WithSupports: where a tie
+  // at 0.1 sigma, doubling the schedule moved it 12 mm). Not among the supports: where a tie
   // gives way the cloth has a range of resting places and the drape jumped between them from
   // one body to the next (male_casualsuit05 at 0.1 sigma: p99 8.5 mm with the limit at 5,
-  // 0.66 without), and the waistband's anchor alone keeps the band up.
+  // 0.66 without), and the waistband's anchor alone keeps the band up. Off by default.
   double tie_limit = 0;
   // With `waistband_stiffness` > 0 a waistband (the highest opening of trousers and skirts,
   // WaistbandEdges) is elastic: its boundary edges carry an elastic of rest length
@@ -92,10 +96,13 @@ struct ClothSettings {
   // then below the waists it fits, so it grips a slim and a broad waist alike. Not far below:
   // fabric gathered on an elastic half the band's length folds one way or another, and at 0.5
   // male_casualsuit03's drape jumped between nearby bodies (p99 16.6 mm at 0.1 sigma; 0.9 mm at
-  // 0.85). A band more than 1 / 0.85 = 18% wider than the waist hangs loose.
+  // 0.85). A band more than 1 / 0.85 = 18% wider than the waist hangs loose. Its height is
+  // held a hundred times as hard as a collar's: at 1000 N/m two garments' bands moved 2.3 to
+  // 2.4 cm on the rise over the population's 2% tails, at 1500 and 4000 N/m other garments'
+  // folds jumped between nearby bodies.
   double waistband_grip = 0.85;
-  double waistband_stiffness = 0;
-  double waistband_anchor_stiffness = 20;
+  double waistband_stiffness = 3000;
+  double waistband_anchor_stiffness = 2000;
   // Contact: energy k/2 * depth^2 for a vertex `depth` inside the offset, N/m. Quadratic, so
   // that Newton resolves a contact in one iteration. Soft enough that the body's facets and
   // creases do not stall the line search (at 1e7 the drape changed by millimetres when the
@@ -109,11 +116,11 @@ struct ClothSettings {
   Factorization factorization = Factorization::kSupernodalCholmod;
 };
 
-// `settings` with the supports for bodies far from the mean on: an elastic waistband
-// (3000 N/m) whose height is held at 2000 N/m, a hundred times a collar's. On the 2% tails of
-// 500 sampled avatars the band stays within 1.7 cm (leggings) and 2.1 cm (trousers) of its
-// place on the rise, where unsupported leggings slide 20 cm (fitbase_drape_bench --supports).
-ClothSettings WithSupports(ClothSettings settings);
+// `settings` with the supports for bodies far from the mean off: no elastic, and the waistband
+// held as softly as a collar, as every drape was before them (simulator fitbase-newton-8 with
+// the older defaults). On the 2% tails of 500 sampled avatars unsupported leggings' bands slide
+// 20 cm down the rise, supported ones stay within 1.7 cm (fitbase_drape_bench --supports).
+ClothSettings WithoutSupports(ClothSettings settings);
 
 // Quasi-static cloth: every step minimises the garment's elastic, gravity, stiction and contact
 // energy plus a mass-weighted proximity term to the previous step (a backward Euler step from

@@ -72,7 +72,7 @@ TEST_F(DrapeTest, RepeatedRunIsBitwiseIdentical) {
 }
 
 TEST_F(DrapeTest, NothingInsideTheBodyAndTopStaysPut) {
-  auto result = Drape(Input(1.15, 1.0), WithSupports({}));
+  auto result = Drape(Input(1.15, 1.0));
   ASSERT_TRUE(result.ok()) << result.status();
   EXPECT_EQ(result->metrics.penetration_below_0mm, 0.0);
   EXPECT_EQ(result->metrics.penetration_below_1mm, 0.0);
@@ -91,10 +91,10 @@ TEST_F(DrapeTest, TheWaistbandsElasticGripsTheWaist) {
   };
   // The default grip lets a band up to 1 / 0.85 = 18% wider than the waist hang loose, and
   // this one is 18% wider.
-  ClothSettings gripping = WithSupports({});
+  ClothSettings gripping;
   gripping.waistband_grip = 0.75;
   auto with = Drape(Input(1.0, 1.0), gripping);
-  auto without = Drape(Input(1.0, 1.0));
+  auto without = Drape(Input(1.0, 1.0), WithoutSupports({}));
   ASSERT_TRUE(with.ok() && without.ok());
   EXPECT_NEAR(band_radius(*with), 0.12 + ClothSettings{}.collision_offset, 0.002);
   EXPECT_GT(band_radius(*without), 0.14);
@@ -120,7 +120,7 @@ class LongerBodyTest : public DrapeTest {
 
 TEST_F(LongerBodyTest, ATieLimitKeepsTheStictionFromDraggingTheWaistbandDown) {
   // The band held only as softly as a collar, to show the ties' pull.
-  ClothSettings limited = WithSupports({});
+  ClothSettings limited;
   limited.waistband_anchor_stiffness = limited.anchor_stiffness;
   limited.tie_limit = 5;
   ClothSettings unlimited = limited;
@@ -135,7 +135,7 @@ TEST_F(LongerBodyTest, ATieLimitKeepsTheStictionFromDraggingTheWaistbandDown) {
 }
 
 TEST_F(LongerBodyTest, TheSupportsHoldTheWaistbandAgainstUnlimitedStiction) {
-  const ClothSettings supports = WithSupports({});
+  const ClothSettings supports;
   ClothSettings soft = supports;
   soft.waistband_anchor_stiffness = soft.anchor_stiffness;
   auto supported = Drape(Longer(), supports);
@@ -188,7 +188,8 @@ TEST_F(DrapeTest, DoublingTheBudgetBarelyMovesTheResult) {
 
 TEST_F(DrapeTest, EveryStepIsSolvedToItsMinimum) {
   // The default settings stop a step once an iteration moves no vertex by 0.1 mm: as good as
-  // solving every step exactly, where a fixed single iteration per step is not.
+  // solving every step exactly, where a fixed single iteration per step is not. The stiff
+  // waistband elastic and its anchor converge last (11 um off with them, 8 mm at one iteration).
   ClothSettings exact;
   exact.newton_iterations = 200;
   exact.newton_tolerance = 1e-9;
@@ -205,8 +206,8 @@ TEST_F(DrapeTest, EveryStepIsSolvedToItsMinimum) {
   const double rough_off = off_mm(*rough);
   std::printf("off the exact solve, mm: solved %.4f, one iteration a step %.4f\n", solved_off,
               rough_off);
-  EXPECT_LT(solved_off, 0.01);
-  EXPECT_GT(rough_off, 2 * solved_off);
+  EXPECT_LT(solved_off, 0.02);
+  EXPECT_GT(rough_off, 100 * solved_off);
 }
 
 TEST_F(DrapeTest, VariesSmoothlyWithTheBody) {
