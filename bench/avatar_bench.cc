@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "benchmark/benchmark.h"
-#include "core/body_model.h"
-#include "core/macro_weights.h"
+#include "body/body_model.h"
+#include "body/macro_weights.h"
+#include "body/population_sampler.h"
+#include "body/target_file.h"
 #include "core/pca_basis.h"
-#include "core/population_sampler.h"
-#include "core/target_file.h"
 
 namespace fitbase {
 namespace {
@@ -44,7 +44,7 @@ int Main(int argc, char** argv) {
   }
 
   const auto load_start = Clock::now();
-  auto model = core::BodyModel::Load(data);
+  auto model = body::BodyModel::Load(data);
   const double load_s = std::chrono::duration<double>(Clock::now() - load_start).count();
   if (!model.ok()) {
     std::fprintf(stderr, "%s\n", std::string(model.status().message()).c_str());
@@ -52,28 +52,28 @@ int Main(int argc, char** argv) {
   }
   std::printf("body model load (base.obj + 430 targets): %.1f ms\n", 1e3 * load_s);
 
-  const core::BodyParams params = core::SampleBodyParams(core::PopulationPreset::kAllWide, 1, 0);
+  const body::BodyParams params = body::SampleBodyParams(body::PopulationPreset::kAllWide, 1, 0);
   const double sparse_s = MedianSeconds(50, [&] { (void)model->BuildFullMesh(params); });
 
   // Baseline: the same weighted sum with every target stored densely (19,158 x 3 each).
   std::vector<std::pair<core::Positions, double>> dense;
-  for (const core::TargetWeight& tw : core::ComputeTargetWeights(params)) {
-    auto target = core::ReadTargetFile(data / "targets" / tw.path, core::kFullVertexCount);
-    core::Positions full = core::Positions::Zero(core::kFullVertexCount, 3);
+  for (const body::TargetWeight& tw : body::ComputeTargetWeights(params)) {
+    auto target = body::ReadTargetFile(data / "targets" / tw.path, body::kFullVertexCount);
+    core::Positions full = core::Positions::Zero(body::kFullVertexCount, 3);
     for (size_t i = 0; i < target->indices.size(); ++i) {
       full.row(target->indices[i]) = target->offsets.row(static_cast<Eigen::Index>(i)).cast<double>();
     }
     dense.emplace_back(std::move(full), tw.weight);
   }
-  core::Positions sum(core::kFullVertexCount, 3);
+  core::Positions sum(body::kFullVertexCount, 3);
   const double dense_s = MedianSeconds(50, [&] {
     sum.setZero();
     for (const auto& [offsets, weight] : dense) sum += weight * offsets;
   });
   // The memory floor: streaming once the bytes the sparse build reads (indices and offsets).
   size_t touched_bytes = 0;
-  for (const core::TargetWeight& tw : core::ComputeTargetWeights(params)) {
-    auto target = core::ReadTargetFile(data / "targets" / tw.path, core::kFullVertexCount);
+  for (const body::TargetWeight& tw : body::ComputeTargetWeights(params)) {
+    auto target = body::ReadTargetFile(data / "targets" / tw.path, body::kFullVertexCount);
     touched_bytes += target->indices.size() * (sizeof(int32_t) + 3 * sizeof(float));
   }
   const Eigen::VectorXd stream = Eigen::VectorXd::Random(static_cast<Eigen::Index>(touched_bytes / 8));
@@ -87,9 +87,9 @@ int Main(int argc, char** argv) {
               dense.size(), 1e-6 * static_cast<double>(touched_bytes), 1e6 * sparse_s,
               1e6 * dense_s, dense_s / sparse_s, 1e6 * floor_s, 100 * floor_s / sparse_s);
 
-  Eigen::MatrixXd samples(3 * core::kBodyVertexCount, population);
+  Eigen::MatrixXd samples(3 * body::kBodyVertexCount, population);
   for (int i = 0; i < population; ++i) {
-    auto body = model->BuildBody(core::SampleBodyParams(core::PopulationPreset::kAllWide, 1, i));
+    auto body = model->BuildBody(body::SampleBodyParams(body::PopulationPreset::kAllWide, 1, i));
     samples.col(i) = Eigen::Map<const Eigen::VectorXd>(body->positions.data(), body->positions.size());
   }
   const auto pca_start = Clock::now();

@@ -27,7 +27,7 @@
 #include "absl/strings/str_split.h"
 #include "absl/strings/strip.h"
 #include "absl/time/clock.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/file_util.h"
 #include "core/status_macros.h"
 #include "fitbase/v1/coordinator.grpc.pb.h"
@@ -304,10 +304,10 @@ absl::Status ScaleRun(const Flags& flags, const v1::AvatarBasis& basis,
 }
 
 absl::Status Main(const Flags& flags) {
-  ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(flags.data));
+  ASSIGN_OR_RETURN(body::BodyModel model, body::BodyModel::Load(flags.data));
   std::cerr << "avatar basis of 60 women with " << flags.components << " components...\n";
   ASSIGN_OR_RETURN(pipeline::Population population,
-                   pipeline::SamplePopulation(model, core::PopulationPreset::kWomen, 1, 60));
+                   pipeline::SamplePopulation(model, body::PopulationPreset::kWomen, 1, 60));
   core::ComponentSelection selection;
   selection.rule = core::ComponentSelection::Rule::kCount;
   selection.count = flags.components;

@@ -33,9 +33,9 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_replace.h"
 #include "absl/strings/str_split.h"
-#include "core/body_measurements.h"
-#include "core/body_model.h"
-#include "core/population_calibration.h"
+#include "body/body_measurements.h"
+#include "body/body_model.h"
+#include "body/population_calibration.h"
 #include "pipeline/garment_importer.h"
 #include "pipeline/progress_reporter.h"
 #include "pipeline/skin_visibility.h"
@@ -53,7 +53,7 @@ struct Body {
   core::Positions positions;
 };
 
-std::vector<Body> TestBodies(const core::BodyModel& model) {
+std::vector<Body> TestBodies(const body::BodyModel& model) {
   struct Spec {
     const char* name;
     double gender, weight, height, muscle;
@@ -67,7 +67,7 @@ std::vector<Body> TestBodies(const core::BodyModel& model) {
   };
   std::vector<Body> bodies;
   for (const Spec& s : specs) {
-    core::BodyParams p;
+    body::BodyParams p;
     p.gender = s.gender;
     p.weight = s.weight;
     p.height = s.height;
@@ -320,9 +320,9 @@ bool IsMenswear(const v1::Garment& garment) { return absl::StartsWith(garment.na
 
 // The tallest, shortest and heaviest `tail` of `count` avatars of a calibrated preset (seed 1),
 // by the measurements the sampler calibrated them to.
-std::vector<Body> ExtremeBodies(const core::BodyModel& model,
-                                const core::PopulationSampler& sampler,
-                                core::PopulationPreset preset, int count, int tail) {
+std::vector<Body> ExtremeBodies(const body::BodyModel& model,
+                                const body::PopulationSampler& sampler,
+                                body::PopulationPreset preset, int count, int tail) {
   struct Sampled {
     int index;
     double stature, weight;
@@ -335,7 +335,7 @@ std::vector<Body> ExtremeBodies(const core::BodyModel& model,
     progress.Update(i + 1);
   }
   progress.Finish();
-  const std::string name(core::PopulationPresetName(preset));
+  const std::string name(body::PopulationPresetName(preset));
   std::vector<Body> bodies;
   std::vector<int> taken;
   auto take = [&](const char* kind, auto better) {
@@ -358,18 +358,18 @@ std::vector<Body> ExtremeBodies(const core::BodyModel& model,
 }
 
 // Where each garment's supports sit on bodies far from the mean, against the mean avatar.
-void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>& imported,
+void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>& imported,
                    const std::vector<Body>& bench_bodies, const std::vector<std::string>& sizes,
                    int extremes, int jobs, const workers::ClothSettings& settings) {
-  auto sampler = core::PopulationSampler::Create(model);
+  auto sampler = body::PopulationSampler::Create(model);
   if (!sampler.ok()) {
     std::cerr << sampler.status().message() << "\n";
     return;
   }
   const std::vector<Body> women =
-      ExtremeBodies(model, *sampler, core::PopulationPreset::kWomen, 500, extremes);
+      ExtremeBodies(model, *sampler, body::PopulationPreset::kWomen, 500, extremes);
   const std::vector<Body> men =
-      ExtremeBodies(model, *sampler, core::PopulationPreset::kMen, 500, extremes);
+      ExtremeBodies(model, *sampler, body::PopulationPreset::kMen, 500, extremes);
   const core::Triangles triangles = core::Triangulate(model.body_faces());
   struct Row {
     size_t garment;
@@ -389,9 +389,9 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
   for (size_t g = 0; g < imported.size(); ++g) {
     auto mean = proto::MeshFromProto(imported[g].mean_avatar());
     if (!mean.ok()) continue;
-    mean_rise[g] = mean->positions(core::BodyLandmarks::kNavel, 1) -
-                   mean->positions(core::BodyLandmarks::kCrotch, 1);
-    std::vector<Body> bodies = {{"mean", mean->positions.topRows(core::kBodyVertexCount)}};
+    mean_rise[g] = mean->positions(body::BodyLandmarks::kNavel, 1) -
+                   mean->positions(body::BodyLandmarks::kCrotch, 1);
+    std::vector<Body> bodies = {{"mean", mean->positions.topRows(body::kBodyVertexCount)}};
     for (const Body& b : bench_bodies) {
       if (absl::StartsWith(b.name, "man") == IsMenswear(imported[g])) bodies.push_back(b);
     }
@@ -408,8 +408,8 @@ void PrintSupports(const core::BodyModel& model, const std::vector<v1::Garment>&
     Row& row = rows[i];
     row.fit =
         workers::DrapeGarment(imported[row.garment], row.size, row.body.positions, settings);
-    const std::array<core::Measurement, 1> leg = {core::Measurement::kInsideLeg};
-    auto measured = core::MeasureBody(row.body.positions, triangles, leg);
+    const std::array<body::Measurement, 1> leg = {body::Measurement::kInsideLeg};
+    auto measured = body::MeasureBody(row.body.positions, triangles, leg);
     if (measured.ok()) row.inside_leg = (*measured)[static_cast<int>(leg[0])];
     if (row.fit.ok()) {
       auto skin = pipeline::MeasureSkinThroughCloth({&row.body.positions, &triangles,
@@ -619,7 +619,7 @@ int Main(int argc, char** argv) {
     std::cerr << s.message() << "\n";
     return 1;
   }
-  auto model = core::BodyModel::Load(data);
+  auto model = body::BodyModel::Load(data);
   if (!model.ok()) {
     std::cerr << model.status().message() << "\n";
     return 1;

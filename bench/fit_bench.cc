@@ -13,7 +13,7 @@
 //   - BM_FitCleanup/N/V/R: a fit plus the collision clean-up (ClothingFitter): vertex anchors
 //     only, as bases before guards had (R = 0), or with a guard per body vertex under the
 //     garment and R rounds of smoothing over a grid garment's edges (the default is
-//     core::kSmoothingIterations); counter `moved` is the share of vertices the clean-up moved
+//     clothing::kSmoothingIterations); counter `moved` is the share of vertices the clean-up moved
 //     (random geometry moves every vertex, the most work a fit can take);
 //   - BM_ProjectAvatar/N: a 13,380-vertex avatar projected onto N components;
 //   - BM_FitStoredBasis/0..3 (--clothing=PATH.fbc): a real garment size, the model alone, with
@@ -22,8 +22,8 @@
 #include <random>
 
 #include "benchmark/benchmark.h"
-#include "core/clothing_fitter.h"
-#include "core/clothing_model.h"
+#include "clothing/clothing_fitter.h"
+#include "clothing/clothing_model.h"
 #include "core/matrix_vector.h"
 #include "core/pca_basis.h"
 #include "fitbase/v1/clothing_basis.pb.h"
@@ -41,10 +41,10 @@ double g_stream_bytes_per_second = 0;
 double g_sgemm_flops_per_second = 0;
 
 // Synthetic linear model (T = N terms): the fit's cost depends on sizes only.
-core::ClothingModel MakeModel(int components, int vertices) {
+clothing::ClothingModel MakeModel(int components, int vertices) {
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> uniform(-0.01f, 0.01f);
-  core::ClothingModel model;
+  clothing::ClothingModel model;
   model.component_count = components;
   model.basis =
       Eigen::MatrixXf::NullaryExpr(3 * vertices, components + 1, [&] { return uniform(rng); });
@@ -99,11 +99,11 @@ void SetShareOfBandwidth(benchmark::State& state, double bytes) {
 
 void BM_FitTermMajor(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
-  const core::ClothingModel model = MakeModel(n, v);
+  const clothing::ClothingModel model = MakeModel(n, v);
   const Eigen::VectorXf w = Weights(n);
   Eigen::VectorXf features, out;
   for (auto _ : state) {
-    core::FitClothing(model, w, features, out);
+    clothing::FitClothing(model, w, features, out);
     benchmark::DoNotOptimize(out.data());
   }
   SetShareOfBandwidth(state, FitBytes(n, v));
@@ -111,7 +111,7 @@ void BM_FitTermMajor(benchmark::State& state) {
 
 void BM_FitPortable(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
-  const core::ClothingModel model = MakeModel(n, v);
+  const clothing::ClothingModel model = MakeModel(n, v);
   Eigen::VectorXf features(n + 1);
   features << 1, Weights(n);
   Eigen::VectorXf out(3 * v);
@@ -126,7 +126,7 @@ void BM_FitPortable(benchmark::State& state) {
 
 void BM_FitVertexMajor(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
-  const core::ClothingModel model = MakeModel(n, v);
+  const clothing::ClothingModel model = MakeModel(n, v);
   const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> basis = model.basis;
   Eigen::VectorXf features(n + 1);
   features << 1, Weights(n);
@@ -140,11 +140,11 @@ void BM_FitVertexMajor(benchmark::State& state) {
 
 void BM_FitBatch64(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
-  const core::ClothingModel model = MakeModel(n, v);
+  const clothing::ClothingModel model = MakeModel(n, v);
   const Eigen::MatrixXf weights = Weights(n).replicate(1, kBatch);
   Eigen::MatrixXf out;
   for (auto _ : state) {
-    core::FitClothingBatch(model, weights, out);
+    clothing::FitClothingBatch(model, weights, out);
     benchmark::DoNotOptimize(out.data());
   }
   const double flops = 2.0 * 3 * v * n * kBatch;
@@ -162,8 +162,8 @@ void BM_FitKernel(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
   constexpr int kOutputs = 32;
   const int centers = 2 * n + 1 + 400;
-  core::ClothingModel model = MakeModel(n, v);
-  model.method = core::ClothingMethod::kKernel;
+  clothing::ClothingModel model = MakeModel(n, v);
+  model.method = clothing::ClothingMethod::kKernel;
   model.basis.conservativeResize(Eigen::NoChange, 1 + n + kOutputs);
   model.basis.rightCols(kOutputs).setRandom();
   model.kernel.length_scale = 3.0f;
@@ -173,7 +173,7 @@ void BM_FitKernel(benchmark::State& state) {
   const Eigen::VectorXf w = Weights(n);
   Eigen::VectorXf features, out;
   for (auto _ : state) {
-    core::FitClothing(model, w, features, out);
+    clothing::FitClothing(model, w, features, out);
     benchmark::DoNotOptimize(out.data());
   }
   SetShareOfBandwidth(state, FitBytes(n + kOutputs, v) + 4.0 * centers * (n + kOutputs));
@@ -183,7 +183,7 @@ void BM_FitCleanup(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
   const int rounds = static_cast<int>(state.range(2));
   std::mt19937 rng(2);
-  core::BodyCorrespondence c;
+  clothing::BodyCorrespondence c;
   c.offset = 0.0025;
   const int u = std::min(v, kBodyVertices) / 2;
   for (int i = 0; i < u; ++i) c.body_vertices.push_back(2 * i);
@@ -215,11 +215,11 @@ void BM_FitCleanup(benchmark::State& state) {
       c.guard_triangles.row(i) = grid.row(i % grid.rows());
     }
     c.smoothing_iterations = rounds;
-    if (!core::SetGarmentNeighbors(grid, c).ok()) state.SkipWithError("bad grid");
+    if (!clothing::SetGarmentNeighbors(grid, c).ok()) state.SkipWithError("bad grid");
   }
-  const core::ClothingFitter fitter = *core::ClothingFitter::Create(MakeModel(n, v), c);
+  const clothing::ClothingFitter fitter = *clothing::ClothingFitter::Create(MakeModel(n, v), c);
   const Eigen::VectorXf w = Weights(n);
-  core::FitScratch scratch;
+  clothing::FitScratch scratch;
   Eigen::VectorXf out;
   int64_t moved = 0;
   for (auto _ : state) {
@@ -241,25 +241,25 @@ void BM_FitStoredBasis(benchmark::State& state) {
     state.SkipWithError("cannot read --clothing");
     return;
   }
-  absl::StatusOr<core::ClothingFitter> loaded = proto::ClothingFitterFromProto(message);
+  absl::StatusOr<clothing::ClothingFitter> loaded = proto::ClothingFitterFromProto(message);
   if (!loaded.ok() || message.provenance().examples().empty()) {
     state.SkipWithError("not a usable clothing basis");
     return;
   }
-  core::BodyCorrespondence correspondence = loaded->correspondence();
+  clothing::BodyCorrespondence correspondence = loaded->correspondence();
   if (state.range(0) == 2) {
     correspondence.guard_body.clear();
     correspondence.guard_triangles.resize(0, 3);
   } else if (state.range(0) == 3) {
     correspondence.smoothing_iterations = 0;
   }
-  const core::ClothingFitter fitter =
-      *core::ClothingFitter::Create(loaded->model(), std::move(correspondence));
+  const clothing::ClothingFitter fitter =
+      *clothing::ClothingFitter::Create(loaded->model(), std::move(correspondence));
   const auto& example = *message.provenance().examples().rbegin();
   const Eigen::VectorXf w =
       Eigen::Map<const Eigen::VectorXd>(example.weights().data(), example.weights_size())
           .cast<float>();
-  core::FitScratch scratch;
+  clothing::FitScratch scratch;
   Eigen::VectorXf out;
   for (auto _ : state) {
     benchmark::DoNotOptimize(fitter.Fit(w, state.range(0) > 0, scratch, out));
@@ -315,9 +315,9 @@ BENCHMARK(BM_FitKernel)->Args({20, 2000})->Args({20, 8000})->Args({30, 8000})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitCleanup)
     ->Args({30, 2000, 0})
-    ->Args({30, 2000, core::kSmoothingIterations})
+    ->Args({30, 2000, clothing::kSmoothingIterations})
     ->Args({30, 8000, 0})
-    ->Args({30, 8000, core::kSmoothingIterations})
+    ->Args({30, 8000, clothing::kSmoothingIterations})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ProjectAvatar)->Arg(10)->Arg(30)->Arg(60)->Unit(benchmark::kMicrosecond);
 

@@ -5,9 +5,9 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "body/body_measurements.h"
+#include "body/body_model.h"
 #include "cli/cli_context.h"
-#include "core/body_measurements.h"
-#include "core/body_model.h"
 #include "core/file_util.h"
 #include "core/obj_io.h"
 #include "core/status_macros.h"
@@ -66,8 +66,8 @@ absl::StatusOr<v1::AvatarParams> ParamsMessageFromArgument(const std::string& ar
 
 absl::Status RunAvatar(const CliContext& context, const AvatarFlags& flags) {
   ASSIGN_OR_RETURN(v1::AvatarParams message, ParamsMessageFromArgument(flags.params));
-  ASSIGN_OR_RETURN(core::BodyParams params, proto::BodyParamsFromProto(message));
-  ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(ResolveDataDir(context)));
+  ASSIGN_OR_RETURN(body::BodyParams params, proto::BodyParamsFromProto(message));
+  ASSIGN_OR_RETURN(body::BodyModel model, body::BodyModel::Load(ResolveDataDir(context)));
   ASSIGN_OR_RETURN(core::Mesh mesh,
                    flags.full ? model.BuildFullMesh(params) : model.BuildBody(params));
   RETURN_IF_ERROR(core::WriteObj(flags.out, mesh));
@@ -110,9 +110,9 @@ absl::Status RunImport(const CliContext& context, const ImportFlags& flags) {
   }
   // The format carries no faces: every body of the topology has those of base.obj's body group.
   ASSIGN_OR_RETURN(core::Mesh base, core::ReadObj(ResolveDataDir(context) / "base.obj"));
-  const core::Mesh mesh{.topology_id = std::string(core::kBodyTopologyId),
+  const core::Mesh mesh{.topology_id = std::string(body::kBodyTopologyId),
                         .positions = *std::move(positions),
-                        .faces = core::BodyFacesOf(base.faces)};
+                        .faces = body::BodyFacesOf(base.faces)};
   RETURN_IF_ERROR(core::WriteObj(flags.out, mesh));
   std::cout << "wrote " << flags.out << " (" << mesh.vertex_count() << " vertices, "
             << mesh.faces.face_count() << " faces, topology " << mesh.topology_id
@@ -122,25 +122,25 @@ absl::Status RunImport(const CliContext& context, const ImportFlags& flags) {
 
 absl::Status RunMeasure(const MeasureFlags& flags) {
   ASSIGN_OR_RETURN(core::Mesh mesh, pipeline::ReadAvatarObj(flags.obj));
-  auto measured = core::MeasureBody(mesh);
+  auto measured = body::MeasureBody(mesh);
   if (!measured.ok()) {
     return absl::Status(measured.status().code(),
                         absl::StrCat(flags.obj, ": ", measured.status().message()));
   }
   if (flags.json) {
     std::string json = "{";
-    for (core::Measurement m : core::AllMeasurements()) {
+    for (body::Measurement m : body::AllMeasurements()) {
       absl::StrAppendFormat(&json, "%s\"%s_%s\": %.1f", json.size() > 1 ? ", " : "",
-                            core::MeasurementName(m), core::TypedUnit(m),
-                            core::InTypedUnit(m, (*measured)[static_cast<int>(m)]));
+                            body::MeasurementName(m), body::TypedUnit(m),
+                            body::InTypedUnit(m, (*measured)[static_cast<int>(m)]));
     }
     std::cout << json << "}\n";
     return absl::OkStatus();
   }
-  for (core::Measurement m : core::AllMeasurements()) {
-    std::cout << absl::StrFormat("%-16s %7.1f %s\n", core::MeasurementName(m),
-                                 core::InTypedUnit(m, (*measured)[static_cast<int>(m)]),
-                                 core::TypedUnit(m));
+  for (body::Measurement m : body::AllMeasurements()) {
+    std::cout << absl::StrFormat("%-16s %7.1f %s\n", body::MeasurementName(m),
+                                 body::InTypedUnit(m, (*measured)[static_cast<int>(m)]),
+                                 body::TypedUnit(m));
   }
   return absl::OkStatus();
 }
@@ -169,11 +169,11 @@ absl::Status RunFromMeasurements(const FromMeasurementsFlags& flags) {
     RETURN_IF_ERROR(core::WriteFileAtomically(flags.weights, proto::ToJson(weights) + "\n"));
   }
   for (const auto& [measurement, given_value, reached] : made.residuals) {
-    const absl::string_view unit = core::TypedUnit(measurement);
+    const absl::string_view unit = body::TypedUnit(measurement);
     std::cout << absl::StrFormat(
-        "%-18s %7.1f %s given, %7.1f %s reached%s\n", core::MeasurementName(measurement),
-        core::InTypedUnit(measurement, given_value), unit,
-        core::InTypedUnit(measurement, reached), unit,
+        "%-18s %7.1f %s given, %7.1f %s reached%s\n", body::MeasurementName(measurement),
+        body::InTypedUnit(measurement, given_value), unit,
+        body::InTypedUnit(measurement, reached), unit,
         std::abs(reached - given_value) <= pipeline::MeasurementAllowance(measurement)
             ? ""
             : "  (outside ISO 20685-1's allowance)");

@@ -4,9 +4,9 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "body/body_model.h"
 #include "cli/cli_context.h"
 #include "cli/remote_flags.h"
-#include "core/body_model.h"
 #include "core/obj_io.h"
 #include "core/status_macros.h"
 #include "fitbase/v1/catalog.grpc.pb.h"
@@ -170,7 +170,7 @@ absl::Status RunEvalMeasurements(const BasisFlags& flags) {
   for (Eigen::Index i = 0; i < population.samples.cols(); ++i) {
     core::Mesh avatar;
     avatar.positions =
-        Eigen::Map<const core::Positions>(population.samples.col(i).data(), core::kBodyVertexCount, 3);
+        Eigen::Map<const core::Positions>(population.samples.col(i).data(), body::kBodyVertexCount, 3);
     avatar.faces = population.faces;
     avatars.push_back(std::move(avatar));
   }

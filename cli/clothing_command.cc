@@ -34,12 +34,12 @@ struct ClothingFlags {
 };
 
 absl::Status RunClothingBuild(const ClothingFlags& flags) {
-  ASSIGN_OR_RETURN(core::ClothingMethod method, core::ParseClothingMethod(flags.method));
+  ASSIGN_OR_RETURN(clothing::ClothingMethod method, clothing::ParseClothingMethod(flags.method));
   v1::AvatarBasis basis;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.basis, &basis));
   v1::Garment garment;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.garment, &garment));
-  if (method == core::ClothingMethod::kKernel && flags.samples == 0) {
+  if (method == clothing::ClothingMethod::kKernel && flags.samples == 0) {
     return absl::InvalidArgumentError("--method kernel learns from sampled drapes; give --samples");
   }
   pipeline::ClothingBuildSpec spec{
@@ -47,7 +47,7 @@ absl::Status RunClothingBuild(const ClothingFlags& flags) {
       .garment = &garment,
       .size = flags.size,
       .example_scale = flags.scale,
-      .sampled_drapes = method == core::ClothingMethod::kKernel ? flags.samples : 0,
+      .sampled_drapes = method == clothing::ClothingMethod::kKernel ? flags.samples : 0,
       .sample_seed = flags.sample_seed,
       .settings = {},
       .schedule = flags.schedule};
@@ -115,12 +115,12 @@ absl::Status RunFit(const FitFlags& flags) {
         "the weights are on avatar basis '", weights.basis_id(), "'; clothing basis ",
         clothing.id(), " takes weights on ", clothing.avatar_basis_id()));
   }
-  ASSIGN_OR_RETURN(core::ClothingFitter fitter, proto::ClothingFitterFromProto(clothing));
+  ASSIGN_OR_RETURN(clothing::ClothingFitter fitter, proto::ClothingFitterFromProto(clothing));
   ASSIGN_OR_RETURN(core::GarmentMesh mesh, proto::GarmentMeshFromClothingBasis(clothing));
   const Eigen::VectorXf w =
       Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
           .cast<float>();
-  core::FitScratch scratch;
+  clothing::FitScratch scratch;
   Eigen::VectorXf positions;
   const auto start = std::chrono::steady_clock::now();
   ASSIGN_OR_RETURN(int64_t moved, fitter.Fit(w, !flags.no_cleanup, scratch, positions));

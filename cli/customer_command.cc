@@ -6,11 +6,11 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_split.h"
+#include "body/body_measurements.h"
+#include "body/body_model.h"
 #include "cli/cli_context.h"
 #include "cli/customer_client.h"
 #include "cli/remote_flags.h"
-#include "core/body_measurements.h"
-#include "core/body_model.h"
 #include "core/file_util.h"
 #include "core/garment_obj.h"
 #include "core/obj_io.h"
@@ -84,17 +84,17 @@ absl::Status RunFromMeasurements(const CliContext& context, const CustomerFlags&
   RETURN_IF_ERROR(
       rpc::FromGrpcStatus(stub->AvatarFromMeasurements(call.get(), request, &response)));
   ASSIGN_OR_RETURN(core::Positions positions, proto::AvatarPositions(response.avatar()));
-  const core::Mesh avatar{.topology_id = std::string(core::kBodyTopologyId),
+  const core::Mesh avatar{.topology_id = std::string(body::kBodyTopologyId),
                           .positions = std::move(positions),
-                          .faces = core::BodyFacesOf(base.faces)};
+                          .faces = body::BodyFacesOf(base.faces)};
   RETURN_IF_ERROR(core::WriteObj(flags.out, avatar));
   if (!flags.weights.empty()) {
     RETURN_IF_ERROR(core::WriteFileAtomically(flags.weights, proto::ToJson(response.weights())));
   }
   for (const v1::MeasurementResidual& residual : response.residuals()) {
-    const absl::StatusOr<core::Measurement> measurement =
-        core::ParseMeasurement(residual.name());
-    const absl::string_view unit = measurement.ok() ? core::TypedUnit(*measurement) : "cm";
+    const absl::StatusOr<body::Measurement> measurement =
+        body::ParseMeasurement(residual.name());
+    const absl::string_view unit = measurement.ok() ? body::TypedUnit(*measurement) : "cm";
     std::cout << absl::StrFormat("%s %.1f %s -> %.1f %s%s\n", residual.name(),
                                  residual.given(), unit, residual.reached(), unit,
                                  residual.within_allowance() ? "" : "  (outside the allowance)");

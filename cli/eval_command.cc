@@ -43,7 +43,7 @@ absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
   for (size_t i = 0; i < garments.size(); ++i) {
     RETURN_IF_ERROR(proto::ReadMessageFile(flags.garments[i], &garments[i]));
   }
-  ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(ResolveDataDir(context)));
+  ASSIGN_OR_RETURN(body::BodyModel model, body::BodyModel::Load(ResolveDataDir(context)));
   const std::filesystem::path out = flags.out;
   std::error_code ec;
   std::filesystem::create_directories(out, ec);

@@ -60,7 +60,7 @@ absl::Status RunImport(const CliContext& context, const GarmentFlags& flags) {
   ASSIGN_OR_RETURN(pipeline::GarmentImportRequest request, ReadRequest(flags));
   v1::AvatarBasis basis;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.basis, &basis));
-  ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(ResolveDataDir(context)));
+  ASSIGN_OR_RETURN(body::BodyModel model, body::BodyModel::Load(ResolveDataDir(context)));
   ASSIGN_OR_RETURN(v1::Garment garment, pipeline::ImportGarment(model, basis, request));
   RETURN_IF_ERROR(proto::WriteMessageFile(flags.out, garment));
   std::cout << "garment " << garment.name() << " (" << garment.id().substr(0, 12) << "): "

@@ -20,13 +20,13 @@ struct PopulationFlags {
 };
 
 absl::Status RunPopulation(const CliContext& context, const PopulationFlags& flags) {
-  ASSIGN_OR_RETURN(core::PopulationPreset preset, core::ParsePopulationPreset(flags.preset));
+  ASSIGN_OR_RETURN(body::PopulationPreset preset, body::ParsePopulationPreset(flags.preset));
   if (flags.count < 1 || flags.count > kMaxPopulation) {
     return absl::InvalidArgumentError(
         absl::StrCat("--count is ", flags.count, "; expected 1 to ", kMaxPopulation));
   }
-  ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(ResolveDataDir(context)));
-  std::vector<core::CalibratedAvatar> calibration;
+  ASSIGN_OR_RETURN(body::BodyModel model, body::BodyModel::Load(ResolveDataDir(context)));
+  std::vector<body::CalibratedAvatar> calibration;
   RETURN_IF_ERROR(pipeline::WritePopulationFolder(model, preset, flags.seed, flags.count,
                                                   flags.out, &calibration));
   std::cout << "wrote " << flags.count << " avatars (preset " << flags.preset << ", seed "

@@ -27,7 +27,7 @@ struct MhcloBinding {
   // x_scale, y_scale, z_scale: the offset along axis a is multiplied by
   // |P[i].a - P[j].a| / reference_distance (reference_distance in data units). The reference
   // distance is that of the body the garment was bound on, where every scale is 1; for the
-  // shipped garments that body is never base.obj itself (see mhclo_binding_test.cc).
+  // shipped garments that body is never base.obj itself (see body/makehuman_body_test.cc).
   struct AxisScale {
     int32_t i = 0;
     int32_t j = 0;

@@ -1,22 +1,21 @@
 #include "core/mhclo_binding.h"
 
-#include <algorithm>
-#include <cmath>
-#include <cstdio>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
-#include "core/body_model.h"
-#include "core/body_params.h"
-#include "core/garment_obj.h"
 #include "core/obj_io.h"
 #include "core/test_support.h"
 #include "gtest/gtest.h"
 
 namespace fitbase::core {
 namespace {
+
+// The vertices of MakeHuman's hm08 mesh, which the shipped bindings reference: body/'s
+// kFullVertexCount, which core/ may not include.
+constexpr int64_t kHm08VertexCount = 19158;
 
 // Four reference vertices. The scales span 2 units along x over a reference distance of 4
 // (sx = 0.5), 3 along y over 1 (sy = 3) and 1 along z over 4 (sz = 0.25).
@@ -142,17 +141,8 @@ TEST(MhcloBindingTest, MissingSectionsAreErrors) {
 }
 
 TEST(MhcloBindingTest, MissingFileIsNotFound) {
-  EXPECT_EQ(ReadMhclo(TestDataDir() / "clothes/no-such.mhclo", kFullVertexCount).status().code(),
+  EXPECT_EQ(ReadMhclo(TestDataDir() / "clothes/no-such.mhclo", kHm08VertexCount).status().code(),
             absl::StatusCode::kNotFound);
-}
-
-std::vector<std::filesystem::path> ShippedMhcloFiles() {
-  std::vector<std::filesystem::path> files;
-  for (const auto& dir : std::filesystem::directory_iterator(TestDataDir() / "clothes")) {
-    files.push_back(dir.path() / (dir.path().filename().string() + ".mhclo"));
-  }
-  std::sort(files.begin(), files.end());
-  return files;
 }
 
 const Positions& BasePositions() {
@@ -164,110 +154,9 @@ const Positions& BasePositions() {
   return *base;
 }
 
-const BodyModel& Model() {
-  static const BodyModel* const model = [] {
-    auto loaded = BodyModel::Load(TestDataDir());
-    if (!loaded.ok()) std::abort();
-    return new BodyModel(*std::move(loaded));
-  }();
-  return *model;
-}
-
-// The whole hm08 mesh of `params` in data units (decimeters), as the .mhclo offsets are.
-Positions FullBodyInDataUnits(const BodyParams& params) {
-  auto mesh = Model().BuildFullMesh(params);
-  if (!mesh.ok()) std::abort();
-  return mesh->positions / kMetersPerDataUnit;
-}
-
-Eigen::RowVector3d ScaleDistances(const MhcloBinding& binding, const Positions& reference) {
-  Eigen::RowVector3d distances;
-  for (int axis = 0; axis < 3; ++axis) {
-    const MhcloBinding::AxisScale& s = binding.scales[axis];
-    distances(axis) = std::abs(reference(s.i, axis) - reference(s.j, axis));
-  }
-  return distances;
-}
-
-Eigen::RowVector3d ReferenceDistances(const MhcloBinding& binding) {
-  return {binding.scales[0].reference_distance, binding.scales[1].reference_distance,
-          binding.scales[2].reference_distance};
-}
-
-// male_worksuit01's reference distances are those of MakeHuman's default human, so it was
-// bound on that body, and its .obj is that placement moved up so the ground joint sits at
-// y = 0 (MakeHuman's export convention). The files round offsets to 5 decimals and the obj to 4.
-TEST(MhcloBindingTest, WorksuitReproducesItsObjOnTheBodyItWasBoundTo) {
-  const std::filesystem::path dir = TestDataDir() / "clothes/male_worksuit01";
-  auto binding = ReadMhclo(dir / "male_worksuit01.mhclo", kFullVertexCount);
-  ASSERT_TRUE(binding.ok()) << binding.status();
-  auto obj = ReadGarmentObj(dir / "male_worksuit01.obj");
-  ASSERT_TRUE(obj.ok()) << obj.status();
-  const Positions body = FullBodyInDataUnits(BodyParams{});
-  EXPECT_LT((ScaleDistances(*binding, body) - ReferenceDistances(*binding)).cwiseAbs().maxCoeff(),
-            1e-4);
-
-  const std::vector<int32_t> ground = Model().GroupVertices("joint-ground");
-  ASSERT_FALSE(ground.empty());
-  double ground_y = 0.0;
-  for (int32_t v : ground) ground_y += body(v, 1);
-  ground_y /= static_cast<double>(ground.size());
-
-  Positions placed = ApplyMhclo(*binding, body);
-  placed.col(1).array() -= ground_y;
-  const Eigen::VectorXd deviation = (placed - obj->mesh.positions).rowwise().norm();
-  std::printf(
-      "male_worksuit01 on the default human, ground at y = %.4f dm: mean %.5f dm, max "
-      "%.5f dm\n",
-      ground_y, deviation.mean(), deviation.maxCoeff());
-  EXPECT_LT(deviation.mean(), 0.001);
-  EXPECT_LT(deviation.maxCoeff(), 0.01);
-}
-
-// The other garments were bound on female and male bodies whose reference distances match
-// none of this data's stock bodies, and their objs are not grounded. On the stock body whose
-// scale distances are nearest theirs, with the mean translation removed, each still lands
-// within millimeters on average: a wrong reference column, weight or offset axis would put it
-// decimeters off.
-TEST(MhcloBindingTest, ShippedBindingsMatchTheirObjOnTheNearestStockBody) {
-  const std::vector<std::filesystem::path> files = ShippedMhcloFiles();
-  ASSERT_EQ(files.size(), 12u);
-  std::vector<std::pair<double, Positions>> bodies;
-  for (double gender : {0.0, 0.5, 1.0}) {
-    BodyParams params;
-    params.gender = gender;
-    bodies.emplace_back(gender, FullBodyInDataUnits(params));
-  }
-  for (const std::filesystem::path& path : files) {
-    auto binding = ReadMhclo(path, kFullVertexCount);
-    ASSERT_TRUE(binding.ok()) << binding.status();
-    EXPECT_EQ(binding->name, path.stem().string());
-    auto obj = ReadGarmentObj(path.parent_path() / binding->obj_file);
-    ASSERT_TRUE(obj.ok()) << obj.status();
-    ASSERT_EQ(binding->vertex_count(), obj->mesh.vertex_count()) << path;
-
-    const auto nearest =
-        std::min_element(bodies.begin(), bodies.end(), [&](const auto& a, const auto& b) {
-          return (ScaleDistances(*binding, a.second) - ReferenceDistances(*binding)).norm() <
-                 (ScaleDistances(*binding, b.second) - ReferenceDistances(*binding)).norm();
-        });
-    const Positions placed = ApplyMhclo(*binding, nearest->second);
-    const Eigen::RowVector3d shift = (obj->mesh.positions - placed).colwise().mean();
-    const Eigen::VectorXd deviation =
-        ((placed.rowwise() + shift) - obj->mesh.positions).rowwise().norm();
-    std::printf(
-        "%-20s %5lld vertices  gender %.1f  shift (%.4f %.4f %.4f)  mean %.5f dm  max "
-        "%.5f dm\n",
-        path.stem().c_str(), static_cast<long long>(binding->vertex_count()), nearest->first,
-        shift(0), shift(1), shift(2), deviation.mean(), deviation.maxCoeff());
-    EXPECT_LT(deviation.mean(), 0.1) << path;
-    EXPECT_LT(deviation.maxCoeff(), 0.3) << path;
-  }
-}
-
 TEST(MhcloBindingTest, OutputFollowsTheReferenceUnits) {
   auto binding = ReadMhclo(TestDataDir() / "clothes/male_casualsuit01/male_casualsuit01.mhclo",
-                           kFullVertexCount);
+                           kHm08VertexCount);
   ASSERT_TRUE(binding.ok()) << binding.status();
   const Positions in_decimeters = ApplyMhclo(*binding, BasePositions());
   const Positions in_meters = ApplyMhclo(*binding, BasePositions() * 0.1);

@@ -4,7 +4,7 @@
 #include <cstdint>
 
 #include "absl/strings/string_view.h"
-#include "core/macro_weights.h"
+#include "body/macro_weights.h"
 #include "fitbase/v1/avatar.pb.h"
 #include "proto/avatar_params_codec.h"
 #include "proto/json_codec.h"
@@ -17,6 +17,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   auto params = fitbase::proto::BodyParamsFromProto(message);
-  if (params.ok()) (void)fitbase::core::ComputeTargetWeights(*params);
+  if (params.ok()) (void)fitbase::body::ComputeTargetWeights(*params);
   return 0;
 }

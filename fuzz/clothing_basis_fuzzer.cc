@@ -4,7 +4,7 @@
 // clean-up, which trusts the validation.
 #include <cstdint>
 
-#include "core/clothing_fitter.h"
+#include "clothing/clothing_fitter.h"
 #include "fitbase/v1/clothing_basis.pb.h"
 #include "proto/clothing_basis_codec.h"
 
@@ -24,7 +24,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   auto fitter = fitbase::proto::ClothingFitterFromProto(message);
   if (!fitter.ok() || fitter->model().component_count > kMaxFitComponents) return 0;
   const Eigen::VectorXf weights = Eigen::VectorXf::Constant(fitter->model().component_count, 0.01f);
-  fitbase::core::FitScratch scratch;
+  fitbase::clothing::FitScratch scratch;
   Eigen::VectorXf positions;
   (void)fitter->Fit(weights, /*cleanup=*/true, scratch, positions);
   return 0;

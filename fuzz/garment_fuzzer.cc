@@ -7,7 +7,7 @@
 // queries take seconds per input here.
 #include <cstdint>
 
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/mhclo_binding.h"
 #include "core/vertex_order.h"
 #include "fitbase/v1/garment.pb.h"
@@ -28,14 +28,14 @@ void Prepare(const v1::Garment& garment) {
   if (template_mesh.ok()) (void)core::SpatialOrder(template_mesh->positions);
   (void)proto::RegionsFromProto(garment);
   auto mean = proto::MeshFromProto(garment.mean_avatar());
-  const bool mean_ok = mean.ok() && mean->vertex_count() == core::kFullVertexCount;
-  if (mean_ok) (void)core::Triangulate(core::BodyFacesOf(mean->faces));
+  const bool mean_ok = mean.ok() && mean->vertex_count() == body::kFullVertexCount;
+  if (mean_ok) (void)core::Triangulate(body::BodyFacesOf(mean->faces));
   auto garment_mesh = proto::GarmentTemplateFromProto(garment);
   if (!garment_mesh.ok()) return;
   const core::Positions& rest = garment_mesh->mesh.positions;
   if (garment.has_binding()) {
     auto binding =
-        proto::MhcloBindingFromProto(garment.binding(), rest.rows(), core::kFullVertexCount);
+        proto::MhcloBindingFromProto(garment.binding(), rest.rows(), body::kFullVertexCount);
     if (binding.ok() && mean_ok) (void)core::ApplyMhclo(*binding, mean->positions);
   }
   auto model = workers::BuildClothModel(rest, garment_mesh->mesh.faces,

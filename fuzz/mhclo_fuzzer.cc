@@ -3,11 +3,11 @@
 #include <cstdint>
 
 #include "absl/strings/string_view.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/mhclo_binding.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  using fitbase::core::kFullVertexCount;
+  using fitbase::body::kFullVertexCount;
   static const fitbase::core::Positions reference =
       fitbase::core::Positions::Random(kFullVertexCount, 3);
   auto binding = fitbase::core::ParseMhclo(

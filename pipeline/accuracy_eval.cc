@@ -7,10 +7,10 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
-#include "core/clothing_fitter.h"
-#include "core/population_calibration.h"
+#include "body/population_calibration.h"
+#include "body/population_sampler.h"
+#include "clothing/clothing_fitter.h"
 #include "core/pca_basis.h"
-#include "core/population_sampler.h"
 #include "core/status_macros.h"
 #include "core/triangle_bvh.h"
 #include "pipeline/avatar_projection.h"
@@ -134,7 +134,9 @@ core::Positions FromFlat(const Eigen::VectorXf& flat) {
 
 absl::Status CheckMethods(const AccuracyEvalSpec& spec) {
   for (const std::string& m : spec.methods) {
-    if (m != "nearest" && m != "geometric") RETURN_IF_ERROR(core::ParseClothingMethod(m).status());
+    if (m != "nearest" && m != "geometric") {
+      RETURN_IF_ERROR(clothing::ParseClothingMethod(m).status());
+    }
     if (m == "kernel" && spec.sampled_drapes < 1) {
       return absl::InvalidArgumentError(
           "the kernel method learns from drapes of sampled bodies; give their number");
@@ -148,18 +150,18 @@ bool Wants(const std::vector<std::string>& methods, absl::string_view method) {
   return std::find(methods.begin(), methods.end(), method) != methods.end();
 }
 
-absl::StatusOr<std::vector<Holdout>> MakeHoldouts(const core::BodyModel& body_model,
+absl::StatusOr<std::vector<Holdout>> MakeHoldouts(const body::BodyModel& body_model,
                                                   const LoadedAvatarBasis& basis,
                                                   const core::Triangles& triangles,
                                                   const AccuracyEvalSpec& spec,
-                                                  core::PopulationPreset preset,
+                                                  body::PopulationPreset preset,
                                                   double* error_mean_mm) {
   std::vector<Holdout> holdouts;
   double error_sum = 0;
-  ASSIGN_OR_RETURN(const core::PopulationSampler sampler,
-                   core::PopulationSampler::Create(body_model));
+  ASSIGN_OR_RETURN(const body::PopulationSampler sampler,
+                   body::PopulationSampler::Create(body_model));
   for (int i = 0; i < spec.holdout_count; ++i) {
-    ASSIGN_OR_RETURN(const core::BodyParams params,
+    ASSIGN_OR_RETURN(const body::BodyParams params,
                      sampler.Sample(preset, spec.holdout_seed, static_cast<uint64_t>(i)));
     ASSIGN_OR_RETURN(core::Mesh body, body_model.BuildBody(params));
     ASSIGN_OR_RETURN(v1::AvatarWeights weights, ProjectAvatar(basis, body));
@@ -232,15 +234,15 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
   }
   out.set_drape_skin_through(drape_skin.share());
   out.set_drape_skin_through_max(drape_skin_max);
-  std::optional<core::ClothingFitter> fitter;
+  std::optional<clothing::ClothingFitter> fitter;
   for (RowStats& row : rows) {
     if (row.method == "nearest" || row.method == "geometric") continue;
     // Rows come in pairs (without, then with clean-up) that share one clothing basis.
     if (!row.cleanup) {
-      ASSIGN_OR_RETURN(core::ClothingMethod method, core::ParseClothingMethod(row.method));
+      ASSIGN_OR_RETURN(clothing::ClothingMethod method, clothing::ParseClothingMethod(row.method));
       ASSIGN_OR_RETURN(v1::ClothingBasis basis,
                        AssembleClothingBasis(g.spec, g.plan, method, examples));
-      if (method == core::ClothingMethod::kLinear) out.set_clothing_basis_id(basis.id());
+      if (method == clothing::ClothingMethod::kLinear) out.set_clothing_basis_id(basis.id());
       if (!spec.clothing_dir.empty()) {
         RETURN_IF_ERROR(proto::WriteMessageFile(
             spec.clothing_dir /
@@ -249,7 +251,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
       }
       ASSIGN_OR_RETURN(fitter, proto::ClothingFitterFromProto(basis));
     }
-    core::FitScratch scratch;
+    clothing::FitScratch scratch;
     Eigen::VectorXf fit;
     for (size_t h = 0; h < holdouts.size(); ++h) {
       RETURN_IF_ERROR(fitter->Fit(holdouts[h].weights, row.cleanup, scratch, fit).status());
@@ -321,7 +323,7 @@ struct EvalBasis {
   LoadedAvatarBasis basis;
   core::Triangles triangles;
   std::string preset_name;
-  core::PopulationPreset preset;
+  body::PopulationPreset preset;
 };
 
 absl::StatusOr<EvalBasis> LoadEvalBasis(const AccuracyEvalSpec& spec) {
@@ -332,7 +334,7 @@ absl::StatusOr<EvalBasis> LoadEvalBasis(const AccuracyEvalSpec& spec) {
     return absl::InvalidArgumentError(
         "the avatar basis has no population preset; name the held-out avatars' preset");
   }
-  ASSIGN_OR_RETURN(out.preset, core::ParsePopulationPreset(out.preset_name));
+  ASSIGN_OR_RETURN(out.preset, body::ParsePopulationPreset(out.preset_name));
   out.basis = {basis_message, {}};
   ASSIGN_OR_RETURN(out.basis.pca, proto::PcaBasisFromProto(basis_message));
   ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis_message.mean()));
@@ -342,7 +344,7 @@ absl::StatusOr<EvalBasis> LoadEvalBasis(const AccuracyEvalSpec& spec) {
 
 }  // namespace
 
-absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_model,
+absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_model,
                                                     const AccuracyEvalSpec& spec) {
   RETURN_IF_ERROR(CheckMethods(spec));
   if (spec.holdout_count < 1) return absl::InvalidArgumentError("need at least 1 held-out avatar");
@@ -351,7 +353,7 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_
   const LoadedAvatarBasis& basis = loaded.basis;
   const core::Triangles& triangles = loaded.triangles;
   const std::string& preset_name = loaded.preset_name;
-  const core::PopulationPreset preset = loaded.preset;
+  const body::PopulationPreset preset = loaded.preset;
 
   v1::AccuracyReport report;
   report.set_avatar_basis_id(basis_message.id());
@@ -436,7 +438,7 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_
 }
 
 absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
-    const core::BodyModel& body_model, const AccuracyEvalSpec& spec,
+    const body::BodyModel& body_model, const AccuracyEvalSpec& spec,
     const std::vector<std::string>& sizes) {
   if (spec.holdout_count < 1) return absl::InvalidArgumentError("need at least 1 held-out avatar");
   if (sizes.size() < 2) return absl::InvalidArgumentError("advice needs at least 2 sizes");
@@ -444,7 +446,7 @@ absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
   const v1::AvatarBasis& basis_message = *spec.avatar_basis;
   const LoadedAvatarBasis& basis = loaded.basis;
   const core::Triangles& triangles = loaded.triangles;
-  const core::PopulationPreset preset = loaded.preset;
+  const body::PopulationPreset preset = loaded.preset;
   double avatar_error = 0;
   ASSIGN_OR_RETURN(std::vector<Holdout> holdouts,
                    MakeHoldouts(body_model, basis, triangles, spec, preset, &avatar_error));
@@ -503,7 +505,7 @@ absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
     }
     // truth[s][h] and the fitter of each size.
     std::vector<std::vector<v1::DrapeResult>> truth(sizes.size());
-    std::vector<core::ClothingFitter> fitters;
+    std::vector<clothing::ClothingFitter> fitters;
     for (size_t s = 0; s < sizes.size(); ++s, ++plan) {
       const GarmentDrapes& g = plans[plan];
       const auto begin = results.begin() + static_cast<std::ptrdiff_t>(offset);
@@ -513,16 +515,16 @@ absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
                       begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size() + g.truth.size()));
       offset += g.plan.tasks.size() + g.truth.size();
       ASSIGN_OR_RETURN(v1::ClothingBasis clothing,
-                       AssembleClothingBasis(g.spec, g.plan, core::ClothingMethod::kLinear,
+                       AssembleClothingBasis(g.spec, g.plan, clothing::ClothingMethod::kLinear,
                                              examples));
-      ASSIGN_OR_RETURN(core::ClothingFitter fitter, proto::ClothingFitterFromProto(clothing));
+      ASSIGN_OR_RETURN(clothing::ClothingFitter fitter, proto::ClothingFitterFromProto(clothing));
       fitters.push_back(std::move(fitter));
     }
 
     AdviceAgreement row;
     row.garment_name = garment->name();
     std::map<std::string, std::pair<double, int>> gaps;
-    core::FitScratch scratch;
+    clothing::FitScratch scratch;
     Eigen::VectorXf fit;
     for (size_t h = 0; h < holdouts.size(); ++h) {
       std::vector<SizeJudgement> from_drape;
@@ -536,10 +538,10 @@ absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
                             .status());
         ASSIGN_OR_RETURN(SizeJudgement f,
                          JudgeSize(advice, indices[s], weight_bodies[h], FromFlat(fit)));
-        for (const core::RegionFitValue& dv : d.regions) {
-          for (const core::RegionFitValue& fv : f.regions) {
+        for (const clothing::RegionFitValue& dv : d.regions) {
+          for (const clothing::RegionFitValue& fv : f.regions) {
             if (fv.region != dv.region) continue;
-            auto& [sum, count] = gaps[std::string(core::FitRegionName(dv.region))];
+            auto& [sum, count] = gaps[std::string(clothing::FitRegionName(dv.region))];
             sum += std::abs(fv.ease_cm - dv.ease_cm);
             ++count;
           }

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "fitbase/v1/accuracy_report.pb.h"
 #include "fitbase/v1/avatar_basis.pb.h"
 #include "fitbase/v1/garment.pb.h"
@@ -45,7 +45,7 @@ struct AccuracyEvalSpec {
 // clothing bases, fits every held-out avatar with every method, and measures the per-vertex
 // error against the drape, the penetration of the real held-out body, and the fit time.
 // Errors: unknown method or preset, a garment of another basis, a failed drape.
-absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const core::BodyModel& body_model,
+absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_model,
                                                     const AccuracyEvalSpec& spec);
 
 // The report as a Markdown table per garment and overall.
@@ -66,7 +66,7 @@ struct AdviceAgreement {
   std::map<std::string, double> ease_gap_cm;
 };
 absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
-    const core::BodyModel& body_model, const AccuracyEvalSpec& spec,
+    const body::BodyModel& body_model, const AccuracyEvalSpec& spec,
     const std::vector<std::string>& sizes);
 std::string AdviceAgreementMarkdown(const std::vector<AdviceAgreement>& rows,
                                     const std::vector<std::string>& sizes,

@@ -1,6 +1,6 @@
 #include "pipeline/avatar_basis_builder.h"
 
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/content_hash.h"
 #include "core/status_macros.h"
 #include "proto/avatar_basis_codec.h"
@@ -32,7 +32,7 @@ v1::ComponentSelection SelectionToProto(const core::ComponentSelection& selectio
 absl::StatusOr<v1::AvatarBasis> BuildAvatarBasis(const Population& population,
                                                  const core::ComponentSelection& selection) {
   ASSIGN_OR_RETURN(core::PcaBasis pca, core::BuildPcaBasis(population.samples, selection));
-  v1::AvatarBasis basis = proto::AvatarBasisToProto(pca, core::kBodyTopologyId, population.faces);
+  v1::AvatarBasis basis = proto::AvatarBasisToProto(pca, body::kBodyTopologyId, population.faces);
   *basis.mutable_selection() = SelectionToProto(selection);
   *basis.mutable_population() = population.provenance;
 
@@ -44,7 +44,7 @@ absl::StatusOr<v1::AvatarBasis> BuildAvatarBasis(const Population& population,
   basis.mutable_population()->set_avatars_sha256(avatars_sha256);
   basis.set_id(core::ContentHash()
                    .Add(kAlgorithm)
-                   .Add(core::kBodyTopologyId)
+                   .Add(body::kBodyTopologyId)
                    .Add(avatars_sha256)
                    .Add(basis.selection().SerializeAsString())
                    .HexDigest());

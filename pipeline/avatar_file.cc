@@ -1,7 +1,7 @@
 #include "pipeline/avatar_file.h"
 
 #include "absl/strings/str_cat.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/garment_obj.h"
 #include "core/obj_io.h"
 #include "core/status_macros.h"
@@ -14,10 +14,10 @@ constexpr double kMinBodyHeight = 1.0;
 constexpr double kMaxBodyHeight = 2.6;
 
 absl::StatusOr<core::Mesh> CheckAvatar(core::Mesh mesh, absl::string_view name) {
-  if (mesh.vertex_count() != core::kBodyVertexCount) {
+  if (mesh.vertex_count() != body::kBodyVertexCount) {
     return absl::InvalidArgumentError(absl::StrCat(
-        name, " has ", mesh.vertex_count(), " vertices; a ", core::kBodyTopologyId,
-        " avatar has ", core::kBodyVertexCount));
+        name, " has ", mesh.vertex_count(), " vertices; a ", body::kBodyTopologyId,
+        " avatar has ", body::kBodyVertexCount));
   }
   const double height = mesh.positions.col(1).maxCoeff() - mesh.positions.col(1).minCoeff();
   if (height < kMinBodyHeight || height > kMaxBodyHeight) {
@@ -25,7 +25,7 @@ absl::StatusOr<core::Mesh> CheckAvatar(core::Mesh mesh, absl::string_view name) 
         name, " is ", height, " units tall; avatars are in meters (expected ",
         kMinBodyHeight, " to ", kMaxBodyHeight, ")"));
   }
-  mesh.topology_id = std::string(core::kBodyTopologyId);
+  mesh.topology_id = std::string(body::kBodyTopologyId);
   return mesh;
 }
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "absl/status/status.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/file_util.h"
 #include "core/obj_io.h"
 #include "core/test_support.h"
@@ -22,9 +22,9 @@ using ::testing::HasSubstr;
 // The default body, built once: loading the model reads every target.
 const core::Mesh& DefaultBody() {
   static const core::Mesh* body = [] {
-    auto model = core::BodyModel::Load(core::TestDataDir());
+    auto model = body::BodyModel::Load(core::TestDataDir());
     EXPECT_TRUE(model.ok()) << model.status();
-    auto mesh = model->BuildBody(core::BodyParams{});
+    auto mesh = model->BuildBody(body::BodyParams{});
     EXPECT_TRUE(mesh.ok()) << mesh.status();
     return new core::Mesh(std::move(*mesh));
   }();
@@ -40,12 +40,12 @@ std::filesystem::path WriteAvatar(const std::string& name, const core::Mesh& mes
 
 TEST(AvatarFileTest, ReadsBodyAvatarInMeters) {
   const core::Mesh& body = DefaultBody();
-  ASSERT_EQ(body.vertex_count(), core::kBodyVertexCount);
+  ASSERT_EQ(body.vertex_count(), body::kBodyVertexCount);
   const auto path = WriteAvatar("body.obj", body);
   auto read = ReadAvatarObj(path);
   ASSERT_TRUE(read.ok()) << read.status();
   EXPECT_EQ(read->vertex_count(), 13380);
-  EXPECT_EQ(read->topology_id, core::kBodyTopologyId);
+  EXPECT_EQ(read->topology_id, body::kBodyTopologyId);
   EXPECT_EQ(read->faces, body.faces);
   EXPECT_LE((read->positions - body.positions).cwiseAbs().maxCoeff(), 1e-6);
 }

@@ -6,7 +6,7 @@
 #include "Eigen/Cholesky"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/random.h"
 #include "core/status_macros.h"
 #include "google/protobuf/descriptor.h"
@@ -27,38 +27,38 @@ constexpr double kOutOfDistributionSigmas = 4.0;
 // What an adult body measures, cm (kg for weight): wider than any survey's range, narrow
 // enough to catch a value typed in the wrong unit.
 struct Plausible {
-  core::Measurement measurement;
+  body::Measurement measurement;
   double low;
   double high;
 };
 
 constexpr Plausible kPlausible[] = {
-    {core::Measurement::kStature, 100, 250},        {core::Measurement::kWeight, 25, 300},
-    {core::Measurement::kBustGirth, 50, 200},       {core::Measurement::kUnderbustGirth, 45, 180},
-    {core::Measurement::kWaistGirth, 40, 200},      {core::Measurement::kHipGirth, 50, 200},
-    {core::Measurement::kThighGirth, 25, 110},      {core::Measurement::kUpperArmGirth, 12, 70},
-    {core::Measurement::kNeckGirth, 20, 70},        {core::Measurement::kInsideLeg, 40, 130},
-    {core::Measurement::kArmLength, 30, 100},       {core::Measurement::kShoulderWidth, 20, 70},
-    {core::Measurement::kNavelWaistGirth, 40, 200},
+    {body::Measurement::kStature, 100, 250},        {body::Measurement::kWeight, 25, 300},
+    {body::Measurement::kBustGirth, 50, 200},       {body::Measurement::kUnderbustGirth, 45, 180},
+    {body::Measurement::kWaistGirth, 40, 200},      {body::Measurement::kHipGirth, 50, 200},
+    {body::Measurement::kThighGirth, 25, 110},      {body::Measurement::kUpperArmGirth, 12, 70},
+    {body::Measurement::kNeckGirth, 20, 70},        {body::Measurement::kInsideLeg, 40, 130},
+    {body::Measurement::kArmLength, 30, 100},       {body::Measurement::kShoulderWidth, 20, 70},
+    {body::Measurement::kNavelWaistGirth, 40, 200},
 };
 
-std::string FieldName(core::Measurement measurement) {
-  return absl::StrCat(core::MeasurementName(measurement), "_", core::TypedUnit(measurement));
+std::string FieldName(body::Measurement measurement) {
+  return absl::StrCat(body::MeasurementName(measurement), "_", body::TypedUnit(measurement));
 }
 
 }  // namespace
 
-double MeasurementAllowance(core::Measurement measurement) {
+double MeasurementAllowance(body::Measurement measurement) {
   switch (measurement) {
-    case core::Measurement::kWeight:
+    case body::Measurement::kWeight:
       return 0.5;
-    case core::Measurement::kStature:
-    case core::Measurement::kNeckGirth:
-    case core::Measurement::kUpperArmGirth:
+    case body::Measurement::kStature:
+    case body::Measurement::kNeckGirth:
+    case body::Measurement::kUpperArmGirth:
       return 0.004;
-    case core::Measurement::kInsideLeg:
-    case core::Measurement::kArmLength:
-    case core::Measurement::kShoulderWidth:
+    case body::Measurement::kInsideLeg:
+    case body::Measurement::kArmLength:
+    case body::Measurement::kShoulderWidth:
       return 0.005;
     default:
       return 0.009;
@@ -81,27 +81,27 @@ absl::StatusOr<MeasurementSet> MeasurementsFromProto(const v1::TypedMeasurements
     if (value < range.low || value > range.high) {
       return absl::InvalidArgumentError(absl::StrFormat(
           "%s is %g; an adult's is %g to %g %s", name, value, range.low, range.high,
-          core::TypedUnit(range.measurement)));
+          body::TypedUnit(range.measurement)));
     }
-    set.emplace_back(range.measurement, value / core::InTypedUnit(range.measurement, 1.0));
+    set.emplace_back(range.measurement, value / body::InTypedUnit(range.measurement, 1.0));
   }
   if (set.empty()) return absl::InvalidArgumentError("no measurements given; stature_cm at least");
   if (std::none_of(set.begin(), set.end(), [](const auto& entry) {
-        return entry.first == core::Measurement::kStature;
+        return entry.first == body::Measurement::kStature;
       })) {
     return absl::InvalidArgumentError("stature_cm is required");
   }
   return set;
 }
 
-v1::TypedMeasurements MeasurementsToProto(const core::BodyMeasurements& measurements) {
+v1::TypedMeasurements MeasurementsToProto(const body::BodyMeasurements& measurements) {
   v1::TypedMeasurements typed;
   const google::protobuf::Reflection* reflection = typed.GetReflection();
-  for (core::Measurement m : core::AllMeasurements()) {
+  for (body::Measurement m : body::AllMeasurements()) {
     const double value = measurements[static_cast<int>(m)];
     if (!std::isfinite(value)) continue;
     reflection->SetDouble(&typed, typed.GetDescriptor()->FindFieldByName(FieldName(m)),
-                          core::InTypedUnit(m, value));
+                          body::InTypedUnit(m, value));
   }
   return typed;
 }
@@ -118,7 +118,7 @@ absl::StatusOr<MeasurementModel> MeasurementModel::Build(const LoadedAvatarBasis
 
   // Rows: [1, w] per sample; measured: every measurement per sample.
   Eigen::MatrixXd design(kModelSamples, n + 1);
-  Eigen::MatrixXd measured(kModelSamples, core::kMeasurementCount);
+  Eigen::MatrixXd measured(kModelSamples, body::kMeasurementCount);
   int rows = 0;
   for (int s = 0; s < kModelSamples; ++s) {
     core::Random random(kModelSeed, static_cast<uint64_t>(s));
@@ -127,18 +127,18 @@ absl::StatusOr<MeasurementModel> MeasurementModel::Build(const LoadedAvatarBasis
     const Eigen::VectorXd x = core::ReconstructFromWeights(basis.pca, w);
     const core::Positions positions =
         Eigen::Map<const core::Positions>(x.data(), x.size() / 3, 3);
-    const absl::StatusOr<core::BodyMeasurements> m =
-        core::MeasureBody(positions, model.triangles_, core::AllMeasurements());
+    const absl::StatusOr<body::BodyMeasurements> m =
+        body::MeasureBody(positions, model.triangles_, body::AllMeasurements());
     if (!m.ok()) continue;  // A sampled body a landmark cannot be found on teaches nothing.
     design(rows, 0) = 1;
     design.row(rows).tail(n) = w.transpose();
-    for (int i = 0; i < core::kMeasurementCount; ++i) measured(rows, i) = (*m)[i];
+    for (int i = 0; i < body::kMeasurementCount; ++i) measured(rows, i) = (*m)[i];
     ++rows;
   }
   if (rows < 2 * (n + 1)) {
     return absl::FailedPreconditionError(absl::StrCat(
         "avatar basis ", basis.message.id(), ": only ", rows, " of ", kModelSamples,
-        " sampled bodies could be measured; is it a basis of ", core::kBodyTopologyId, "?"));
+        " sampled bodies could be measured; is it a basis of ", body::kBodyTopologyId, "?"));
   }
   const Eigen::MatrixXd x = design.topRows(rows);
   const Eigen::MatrixXd y = measured.topRows(rows);
@@ -157,7 +157,7 @@ absl::StatusOr<MeasuredAvatar> AvatarFromMeasurements(const LoadedAvatarBasis& b
   if (given.empty()) return absl::InvalidArgumentError("no measurements given");
   const int n = static_cast<int>(basis.pca.variances.size());
   const int s = static_cast<int>(given.size());
-  std::vector<core::Measurement> which;
+  std::vector<body::Measurement> which;
   Eigen::VectorXd target(s), allowance(s), noise(s), at_mean(s);
   Eigen::MatrixXd jacobian(s, n);
   for (int i = 0; i < s; ++i) {
@@ -192,8 +192,8 @@ absl::StatusOr<MeasuredAvatar> AvatarFromMeasurements(const LoadedAvatarBasis& b
     const Eigen::VectorXd x = core::ReconstructFromWeights(basis.pca, weights);
     const core::Positions positions =
         Eigen::Map<const core::Positions>(x.data(), x.size() / 3, 3);
-    ASSIGN_OR_RETURN(const core::BodyMeasurements m,
-                     core::MeasureBody(positions, model.triangles(), which));
+    ASSIGN_OR_RETURN(const body::BodyMeasurements m,
+                     body::MeasureBody(positions, model.triangles(), which));
     Eigen::VectorXd values(s);
     for (int i = 0; i < s; ++i) values(i) = m[static_cast<int>(which[i])];
     return values;
@@ -245,12 +245,12 @@ absl::StatusOr<MeasuredAvatar> AvatarFromMeasurements(const LoadedAvatarBasis& b
   for (int i = 0; i < s; ++i) {
     result.residuals.emplace_back(which[i], target(i), values(i));
     if (std::abs(values(i) - target(i)) > allowance(i)) {
-      const absl::string_view unit = core::TypedUnit(which[i]);
+      const absl::string_view unit = body::TypedUnit(which[i]);
       result.out_of_distribution_reasons.push_back(absl::StrFormat(
           "%s: %.1f %s given, the nearest body of the population has %.1f %s (allowance %.1f)",
-          core::MeasurementName(which[i]), core::InTypedUnit(which[i], target(i)), unit,
-          core::InTypedUnit(which[i], values(i)), unit,
-          core::InTypedUnit(which[i], allowance(i))));
+          body::MeasurementName(which[i]), body::InTypedUnit(which[i], target(i)), unit,
+          body::InTypedUnit(which[i], values(i)), unit,
+          body::InTypedUnit(which[i], allowance(i))));
     }
   }
   for (int k = 0; k < n; ++k) {
@@ -270,7 +270,7 @@ namespace fitbase::pipeline {
 absl::StatusOr<std::string> EvaluateAvatarFromMeasurements(
     const LoadedAvatarBasis& basis, const MeasurementModel& model,
     const std::vector<core::Mesh>& avatars) {
-  using M = core::Measurement;
+  using M = body::Measurement;
   struct InputSet {
     const char* name;
     std::vector<M> measurements;
@@ -278,7 +278,7 @@ absl::StatusOr<std::string> EvaluateAvatarFromMeasurements(
   const std::vector<InputSet> sets = {
       {"stature, weight", {M::kStature, M::kWeight}},
       {"+ bust, waist, hip", {M::kStature, M::kWeight, M::kBustGirth, M::kWaistGirth, M::kHipGirth}},
-      {"all 13", {core::AllMeasurements().begin(), core::AllMeasurements().end()}},
+      {"all 13", {body::AllMeasurements().begin(), body::AllMeasurements().end()}},
   };
   std::string table = absl::StrFormat(
       "%d avatars, basis %s (%d components)\n\n| given | reproduced within allowance | "
@@ -286,12 +286,12 @@ absl::StatusOr<std::string> EvaluateAvatarFromMeasurements(
       avatars.size(), basis.message.id().substr(0, 12), basis.pca.variances.size());
   for (const InputSet& set : sets) {
     int within = 0, total = 0, flagged = 0;
-    std::array<int, core::kMeasurementCount> missed{};
+    std::array<int, body::kMeasurementCount> missed{};
     std::vector<double> errors;
     double sum = 0;
     for (const core::Mesh& avatar : avatars) {
-      ASSIGN_OR_RETURN(const core::BodyMeasurements truth,
-                       core::MeasureBody(avatar.positions, model.triangles(), set.measurements));
+      ASSIGN_OR_RETURN(const body::BodyMeasurements truth,
+                       body::MeasureBody(avatar.positions, model.triangles(), set.measurements));
       MeasurementSet given;
       for (M m : set.measurements) given.emplace_back(m, truth[static_cast<int>(m)]);
       ASSIGN_OR_RETURN(const MeasuredAvatar made, AvatarFromMeasurements(basis, model, given));
@@ -314,7 +314,7 @@ absl::StatusOr<std::string> EvaluateAvatarFromMeasurements(
                                        missed.begin());
     absl::StrAppendFormat(
         &table, "| %s | %.1f%% | %s %.0f%% | %.1f | %.1f | %d |\n", set.name,
-        100.0 * within / std::max(total, 1), core::MeasurementName(static_cast<M>(worst)),
+        100.0 * within / std::max(total, 1), body::MeasurementName(static_cast<M>(worst)),
         100.0 * (1.0 - missed[worst] / static_cast<double>(avatars.size())),
         sum / static_cast<double>(avatars.size()),
         errors.empty() ? 0.0 : errors[static_cast<size_t>(0.95 * (errors.size() - 1))], flagged);

@@ -8,7 +8,7 @@
 
 #include "Eigen/Core"
 #include "absl/status/statusor.h"
-#include "core/body_measurements.h"
+#include "body/body_measurements.h"
 #include "core/mesh.h"
 #include "fitbase/v1/avatar.pb.h"
 #include "pipeline/avatar_projection.h"
@@ -16,7 +16,7 @@
 namespace fitbase::pipeline {
 
 // Measurements a person gave: meters, and kilograms for weight; each measurement once.
-using MeasurementSet = std::vector<std::pair<core::Measurement, double>>;
+using MeasurementSet = std::vector<std::pair<body::Measurement, double>>;
 
 // The set a TypedMeasurements message holds (cm and kg), converted to meters. INVALID_ARGUMENT
 // naming the field: no measurement at all, no stature, a value that is not finite, or one
@@ -24,7 +24,7 @@ using MeasurementSet = std::vector<std::pair<core::Measurement, double>>;
 absl::StatusOr<MeasurementSet> MeasurementsFromProto(const v1::TypedMeasurements& typed);
 
 // All of a body's measurements as a person reads them (cm, kg).
-v1::TypedMeasurements MeasurementsToProto(const core::BodyMeasurements& measurements);
+v1::TypedMeasurements MeasurementsToProto(const body::BodyMeasurements& measurements);
 
 // How the bodies of an avatar basis measure, learned once per basis: bodies sampled from the
 // basis's own population distribution (weights ~ N(0, diag sigma^2), seeded) are measured,
@@ -56,13 +56,13 @@ struct MeasuredAvatar {
   Eigen::VectorXd weights;  // N, meters: the basis's weights.
   core::Mesh avatar;        // mean + components * weights, meters, with the basis's faces.
   // Per given measurement, in the order given: (measurement, given, reached), m and kg.
-  std::vector<std::tuple<core::Measurement, double, double>> residuals;
+  std::vector<std::tuple<body::Measurement, double, double>> residuals;
   std::vector<std::string> out_of_distribution_reasons;  // Empty when in distribution.
 };
 
 // ISO 20685-1's allowance for a measurement: 4 mm for stature and small girths (neck, upper
 // arm), 5 mm for lengths, 9 mm for large girths, 0.5 kg for weight.
-double MeasurementAllowance(core::Measurement measurement);
+double MeasurementAllowance(body::Measurement measurement);
 
 // The body of `basis` that best matches `given`: the conditional Gaussian of the weights given
 // the measurements as the start, then Gauss-Newton through the real measurement functions

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -14,7 +14,7 @@
 namespace fitbase::pipeline {
 namespace {
 
-using core::Measurement;
+using body::Measurement;
 using core::StatusIs;
 
 class AvatarFromMeasurementsTest : public ::testing::Test {
@@ -22,9 +22,9 @@ class AvatarFromMeasurementsTest : public ::testing::Test {
   // A women's basis of 60 calibrated avatars, and 4 held-out women: small, but the same code
   // path as a shop's basis.
   static void SetUpTestSuite() {
-    auto model = core::BodyModel::Load(core::TestDataDir());
+    auto model = body::BodyModel::Load(core::TestDataDir());
     ASSERT_TRUE(model.ok()) << model.status();
-    auto population = SamplePopulation(*model, core::PopulationPreset::kWomen, 1, 60);
+    auto population = SamplePopulation(*model, body::PopulationPreset::kWomen, 1, 60);
     ASSERT_TRUE(population.ok()) << population.status();
     core::ComponentSelection selection;
     selection.max_mean_error_mm = 2.0;
@@ -37,14 +37,14 @@ class AvatarFromMeasurementsTest : public ::testing::Test {
     auto measurement_model = MeasurementModel::Build(*basis_);
     ASSERT_TRUE(measurement_model.ok()) << measurement_model.status();
     model_ = new MeasurementModel(*std::move(measurement_model));
-    auto holdout = SamplePopulation(*model, core::PopulationPreset::kWomen, 2, 4);
+    auto holdout = SamplePopulation(*model, body::PopulationPreset::kWomen, 2, 4);
     ASSERT_TRUE(holdout.ok());
     holdout_ = new Population(*std::move(holdout));
   }
-  static core::BodyMeasurements TrueMeasurements(int i) {
+  static body::BodyMeasurements TrueMeasurements(int i) {
     const core::Positions positions = Eigen::Map<const core::Positions>(
-        holdout_->samples.col(i).data(), core::kBodyVertexCount, 3);
-    auto m = core::MeasureBody(positions, model_->triangles(), core::AllMeasurements());
+        holdout_->samples.col(i).data(), body::kBodyVertexCount, 3);
+    auto m = body::MeasureBody(positions, model_->triangles(), body::AllMeasurements());
     EXPECT_TRUE(m.ok()) << m.status();
     return *m;
   }
@@ -59,7 +59,7 @@ Population* AvatarFromMeasurementsTest::holdout_ = nullptr;
 TEST_F(AvatarFromMeasurementsTest, GivenMeasurementsComeBackWithinTheirAllowance) {
   int within = 0, total = 0;
   for (int i = 0; i < 4; ++i) {
-    const core::BodyMeasurements truth = TrueMeasurements(i);
+    const body::BodyMeasurements truth = TrueMeasurements(i);
     MeasurementSet given;
     for (Measurement m : {Measurement::kStature, Measurement::kWeight, Measurement::kBustGirth,
                           Measurement::kWaistGirth, Measurement::kHipGirth}) {
@@ -67,14 +67,14 @@ TEST_F(AvatarFromMeasurementsTest, GivenMeasurementsComeBackWithinTheirAllowance
     }
     auto made = AvatarFromMeasurements(*basis_, *model_, given);
     ASSERT_TRUE(made.ok()) << made.status();
-    ASSERT_EQ(made->avatar.vertex_count(), core::kBodyVertexCount);
+    ASSERT_EQ(made->avatar.vertex_count(), body::kBodyVertexCount);
     ASSERT_EQ(made->residuals.size(), given.size());
     for (const auto& [m, value, reached] : made->residuals) {
       ++total;
       within += std::abs(reached - value) <= MeasurementAllowance(m);
     }
     // The made body is the one its residuals were measured on.
-    auto remeasured = core::MeasureBody(made->avatar);
+    auto remeasured = body::MeasureBody(made->avatar);
     ASSERT_TRUE(remeasured.ok());
     EXPECT_NEAR((*remeasured)[0], std::get<2>(made->residuals[0]), 1e-9);
   }
@@ -116,8 +116,8 @@ TEST(MeasurementsFromProtoTest, NamesEachBadField) {
 }
 
 TEST(MeasurementsFromProtoTest, RoundTripsWhatMeasureBodyGives) {
-  core::BodyMeasurements m;
-  for (int i = 0; i < core::kMeasurementCount; ++i) m[i] = 0.5 + 0.01 * i;
+  body::BodyMeasurements m;
+  for (int i = 0; i < body::kMeasurementCount; ++i) m[i] = 0.5 + 0.01 * i;
   m[static_cast<int>(Measurement::kStature)] = 1.7;
   m[static_cast<int>(Measurement::kWeight)] = 70;
   const v1::TypedMeasurements typed = MeasurementsToProto(m);

@@ -1,7 +1,7 @@
 #include "pipeline/clothing_basis_builder.h"
 
 #include "absl/strings/str_cat.h"
-#include "core/body_correspondence.h"
+#include "clothing/body_correspondence.h"
 #include "core/content_hash.h"
 #include "core/random.h"
 #include "core/status_macros.h"
@@ -47,8 +47,8 @@ absl::StatusOr<ClothingPlan> PlanClothingBasis(const ClothingBuildSpec& spec) {
   }
   ClothingPlan plan;
   ASSIGN_OR_RETURN(plan.avatar, proto::PcaBasisFromProto(basis));
-  ASSIGN_OR_RETURN(plan.design,
-                   core::MakeExampleDesign(plan.avatar.variances.cwiseSqrt(), spec.example_scale));
+  ASSIGN_OR_RETURN(plan.design, clothing::MakeExampleDesign(plan.avatar.variances.cwiseSqrt(),
+                                                            spec.example_scale));
   const int n = plan.design.component_count();
   plan.sample_weights.resize(n, spec.sampled_drapes);
   for (int i = 0; i < spec.sampled_drapes; ++i) {
@@ -71,7 +71,7 @@ absl::StatusOr<ClothingPlan> PlanClothingBasis(const ClothingBuildSpec& spec) {
 }
 
 absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
-    const ClothingBuildSpec& spec, const ClothingPlan& plan, core::ClothingMethod method,
+    const ClothingBuildSpec& spec, const ClothingPlan& plan, clothing::ClothingMethod method,
     const std::vector<v1::DrapeResult>& results) {
   const v1::Garment& garment = *spec.garment;
   const int64_t vertex_count = garment.template_mesh().vertex_count();
@@ -79,7 +79,7 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
     return absl::InvalidArgumentError(absl::StrCat("got ", results.size(), " drape results for ",
                                                    plan.tasks.size(), " drapes"));
   }
-  const bool kernel = method == core::ClothingMethod::kKernel;
+  const bool kernel = method == clothing::ClothingMethod::kKernel;
   const auto examples_used = static_cast<Eigen::Index>(plan.design.example_count());
   const Eigen::Index sampled = plan.sample_weights.cols();
   if (kernel && sampled == 0) {
@@ -99,19 +99,19 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
                      workers::DrapeResultPositions(results[task], vertex_count));
     drapes.col(e) = positions.reshaped<Eigen::RowMajor>();
   }
-  core::ClothingModel model;
-  core::KernelBuildReport kernel_report;
+  clothing::ClothingModel model;
+  clothing::KernelBuildReport kernel_report;
   if (kernel) {
-    ASSIGN_OR_RETURN(model, core::BuildKernelClothingModel(
+    ASSIGN_OR_RETURN(model, clothing::BuildKernelClothingModel(
                                 plan.design, drapes.leftCols(examples_used),
                                 {plan.sample_weights, drapes.rightCols(sampled)}, {},
                                 &kernel_report));
   } else {
-    ASSIGN_OR_RETURN(model, core::BuildClothingModel(method, plan.design, drapes));
+    ASSIGN_OR_RETURN(model, clothing::BuildClothingModel(method, plan.design, drapes));
   }
   ASSIGN_OR_RETURN(core::Mesh mean_body, proto::MeshFromProto(spec.avatar_basis->mean()));
   std::vector<core::Positions> example_drapes;
-  std::vector<core::CorrespondenceExample> examples;
+  std::vector<clothing::CorrespondenceExample> examples;
   for (Eigen::Index e = 0; e < drapes.cols(); ++e) {
     example_drapes.push_back(
         Eigen::Map<const core::Positions>(drapes.col(e).data(), vertex_count, 3));
@@ -120,8 +120,8 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
     examples.push_back({&example_drapes[e], plan.TaskWeights(static_cast<size_t>(e))});
   }
   ASSIGN_OR_RETURN(const core::Mesh garment_mesh, proto::MeshFromProto(garment.template_mesh()));
-  ASSIGN_OR_RETURN(core::BodyCorrespondence correspondence,
-                   core::BuildBodyCorrespondence(examples, plan.avatar,
+  ASSIGN_OR_RETURN(clothing::BodyCorrespondence correspondence,
+                   clothing::BuildBodyCorrespondence(examples, plan.avatar,
                                                  core::Triangulate(mean_body.faces),
                                                  core::Triangulate(garment_mesh.faces),
                                                  spec.settings.collision_offset,

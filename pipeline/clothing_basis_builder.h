@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "core/clothing_model.h"
+#include "clothing/clothing_model.h"
 #include "core/pca_basis.h"
 #include "fitbase/v1/avatar_basis.pb.h"
 #include "fitbase/v1/clothing_basis.pb.h"
@@ -35,7 +35,7 @@ struct ClothingBuildSpec {
 // set of drapes serves them all, and the distributed build runs exactly these.
 struct ClothingPlan {
   core::PcaBasis avatar;
-  core::ExampleDesign design;
+  clothing::ExampleDesign design;
   Eigen::MatrixXd sample_weights;         // N x sampled_drapes, m.
   std::vector<workers::DrapeTask> tasks;  // ExampleDesign order, then the samples'.
   std::string TaskLabel(size_t task) const;  // "mean", "+3", "-3", ..., "sample-17".
@@ -56,7 +56,7 @@ inline constexpr int kMaxSampledDrapes = 4096;
 // garment, size, avatar basis, method and every drape key it uses, so equal inputs give the
 // same bytes. InvalidArgument when a result's key or vertex count does not match its task.
 absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
-    const ClothingBuildSpec& spec, const ClothingPlan& plan, core::ClothingMethod method,
+    const ClothingBuildSpec& spec, const ClothingPlan& plan, clothing::ClothingMethod method,
     const std::vector<v1::DrapeResult>& results);
 
 }  // namespace fitbase::pipeline

@@ -5,12 +5,12 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
-#include "core/body_skeleton.h"
+#include "body/body_skeleton.h"
+#include "clothing/size_advice.h"
 #include "core/content_hash.h"
 #include "core/file_util.h"
 #include "core/garment_obj.h"
 #include "core/mhclo_binding.h"
-#include "core/size_advice.h"
 #include "core/status_macros.h"
 #include "proto/avatar_params_codec.h"
 #include "proto/garment_codec.h"
@@ -49,7 +49,7 @@ absl::StatusOr<int> GradingStep(absl::string_view size) {
                    "(other names need a size mesh)"));
 }
 
-absl::StatusOr<core::Mesh> MeanFullAvatar(const core::BodyModel& model,
+absl::StatusOr<core::Mesh> MeanFullAvatar(const body::BodyModel& model,
                                           const v1::AvatarBasis& basis) {
   const auto& params = basis.population().params();
   if (params.empty()) {
@@ -59,7 +59,7 @@ absl::StatusOr<core::Mesh> MeanFullAvatar(const core::BodyModel& model,
   }
   core::Mesh mean;
   for (const v1::AvatarParams& p : params) {
-    ASSIGN_OR_RETURN(core::BodyParams body_params, proto::BodyParamsFromProto(p));
+    ASSIGN_OR_RETURN(body::BodyParams body_params, proto::BodyParamsFromProto(p));
     ASSIGN_OR_RETURN(core::Mesh full, model.BuildFullMesh(body_params));
     if (mean.positions.size() == 0) {
       mean = std::move(full);
@@ -83,7 +83,7 @@ absl::StatusOr<GarmentImportRequest> ReadGarmentImportFiles(const GarmentImportP
     ASSIGN_OR_RETURN(mhclo.bytes, core::ReadFileToString(paths.mhclo));
     // Parsed whole, so a bad binding is reported as such rather than as a missing OBJ.
     ASSIGN_OR_RETURN(core::MhcloBinding binding,
-                     core::ParseMhclo(mhclo.bytes, core::kFullVertexCount, mhclo.name));
+                     core::ParseMhclo(mhclo.bytes, body::kFullVertexCount, mhclo.name));
     if (binding.obj_file.empty()) {
       return absl::InvalidArgumentError(absl::StrCat(mhclo.name, " names no obj_file"));
     }
@@ -122,13 +122,13 @@ absl::StatusOr<std::string> GarmentImportId(absl::string_view basis_id,
   return id.HexDigest();
 }
 
-absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
+absl::StatusOr<v1::Garment> ImportGarment(const body::BodyModel& model,
                                           const v1::AvatarBasis& basis,
                                           const GarmentImportRequest& request) {
   // Checked before any parsing or fitting, so a bad request fails at once.
   if (request.sizes.empty()) return absl::InvalidArgumentError("a garment needs at least one size");
   if (!request.garment_type.empty()) {
-    RETURN_IF_ERROR(core::ParseGarmentType(request.garment_type).status());
+    RETURN_IF_ERROR(clothing::ParseGarmentType(request.garment_type).status());
   }
   for (const auto& [size, file] : request.size_meshes) {
     if (std::find(request.sizes.begin(), request.sizes.end(), size) == request.sizes.end()) {
@@ -141,7 +141,7 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
   v1::Garment garment;
   core::MhcloBinding binding;
   if (request.mhclo.has_value()) {
-    ASSIGN_OR_RETURN(binding, core::ParseMhclo(request.mhclo->bytes, core::kFullVertexCount,
+    ASSIGN_OR_RETURN(binding, core::ParseMhclo(request.mhclo->bytes, body::kFullVertexCount,
                                                request.mhclo->name));
   }
   ASSIGN_OR_RETURN(core::GarmentMesh source,
@@ -153,7 +153,7 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
           request.obj.name, " has ", source.mesh.vertex_count(), " vertices but its binding ",
           request.mhclo->name, " binds ", binding.vertex_count()));
     }
-    rest = core::kMetersPerDataUnit * source.mesh.positions;
+    rest = body::kMetersPerDataUnit * source.mesh.positions;
     *garment.mutable_binding() = proto::MhcloBindingToProto(binding);
     garment.mutable_source()->set_kind("mhclo");
   } else {
@@ -202,7 +202,7 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
   }
 
   ASSIGN_OR_RETURN(core::Mesh mean_full, MeanFullAvatar(model, basis));
-  const core::Positions mean_body = mean_full.positions.topRows(core::kBodyVertexCount);
+  const core::Positions mean_body = mean_full.positions.topRows(body::kBodyVertexCount);
   const core::Positions placed =
       request.mhclo.has_value() ? core::ApplyMhclo(binding, mean_full.positions) : rest;
   ASSIGN_OR_RETURN(core::Positions template_positions,
@@ -218,9 +218,9 @@ absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
   *garment.mutable_mean_avatar() = proto::MeshToProto(mean_full);
   garment.set_avatar_basis_id(basis.id());
 
-  ASSIGN_OR_RETURN(std::vector<core::Bone> bones, core::BodyBones(model, mean_full.positions));
+  ASSIGN_OR_RETURN(std::vector<body::Bone> bones, body::BodyBones(model, mean_full.positions));
   for (Eigen::Index v = 0; v < template_positions.rows(); ++v) {
-    const core::Bone& bone = core::NearestBone(bones, template_positions.row(v).transpose());
+    const body::Bone& bone = body::NearestBone(bones, template_positions.row(v).transpose());
     // Bones point down the limbs and up the spine; one sign for all keeps the axes of
     // neighbouring vertices on different bones from cancelling in GradedRestLengths.
     Eigen::Vector3d axis = (bone.end - bone.start).normalized();

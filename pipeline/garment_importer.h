@@ -9,7 +9,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "fitbase/v1/avatar_basis.pb.h"
 #include "fitbase/v1/garment.pb.h"
 
@@ -55,7 +55,7 @@ absl::StatusOr<GarmentImportRequest> ReadGarmentImportFiles(const GarmentImportP
 // The full 19,158-vertex mean avatar of a basis: the mean of the full meshes of its training
 // avatars, rebuilt from their parameters (so helpers and joints are exact, and the body part
 // equals the basis mean). FAILED_PRECONDITION for a basis without avatar parameters.
-absl::StatusOr<core::Mesh> MeanFullAvatar(const core::BodyModel& model,
+absl::StatusOr<core::Mesh> MeanFullAvatar(const body::BodyModel& model,
                                           const v1::AvatarBasis& basis);
 
 // The content hash of a request's garment files: its OBJ, then its binding if it has one.
@@ -74,7 +74,7 @@ absl::StatusOr<std::string> GarmentImportId(absl::string_view basis_id,
 // does not parse, OBJ and binding vertex counts that disagree, a size mesh of another topology
 // or for a size not in `sizes`, no sizes, a placed OBJ not in meters (INVALID_ARGUMENT); an
 // unknown size name (NOT_FOUND); a basis without avatar parameters (FAILED_PRECONDITION).
-absl::StatusOr<v1::Garment> ImportGarment(const core::BodyModel& model,
+absl::StatusOr<v1::Garment> ImportGarment(const body::BodyModel& model,
                                           const v1::AvatarBasis& basis,
                                           const GarmentImportRequest& request);
 

@@ -4,8 +4,8 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
-#include "core/body_model.h"
-#include "core/body_params.h"
+#include "body/body_model.h"
+#include "body/body_params.h"
 #include "core/content_hash.h"
 #include "core/file_util.h"
 #include "core/garment_obj.h"
@@ -38,14 +38,14 @@ class GarmentImporterTest : public ::testing::Test {
  protected:
   // Loading the model reads every target, so the suite shares one.
   static void SetUpTestSuite() {
-    absl::StatusOr<core::BodyModel> model = core::BodyModel::Load(core::TestDataDir());
+    absl::StatusOr<body::BodyModel> model = body::BodyModel::Load(core::TestDataDir());
     ASSERT_TRUE(model.ok()) << model.status();
-    model_ = new core::BodyModel(*std::move(model));
+    model_ = new body::BodyModel(*std::move(model));
     // Import needs only the basis's id and training avatars: two bodies, so the mean avatar
     // is no single one of them.
     basis_ = new v1::AvatarBasis;
     basis_->set_id("garment-importer-test-basis");
-    core::BodyParams params;
+    body::BodyParams params;
     params.gender = 0.9;
     *basis_->mutable_population()->add_params() = proto::BodyParamsToProto(params);
     params.weight = 0.7;
@@ -65,18 +65,18 @@ class GarmentImporterTest : public ::testing::Test {
     return request;
   }
 
-  static core::BodyModel* model_;
+  static body::BodyModel* model_;
   static v1::AvatarBasis* basis_;
 };
 
-core::BodyModel* GarmentImporterTest::model_ = nullptr;
+body::BodyModel* GarmentImporterTest::model_ = nullptr;
 v1::AvatarBasis* GarmentImporterTest::basis_ = nullptr;
 
 TEST_F(GarmentImporterTest, ContentsImportAsTheFilesTheyCameFrom) {
   // A retailer's own L: the garment's rest mesh in meters, 2% wider.
   absl::StatusOr<core::GarmentMesh> l_mesh = core::ReadGarmentObj(GarmentFile(".obj"));
   ASSERT_TRUE(l_mesh.ok()) << l_mesh.status();
-  l_mesh->mesh.positions *= core::kMetersPerDataUnit;
+  l_mesh->mesh.positions *= body::kMetersPerDataUnit;
   l_mesh->mesh.positions.col(0) *= 1.02;
   const std::filesystem::path l_path = core::ProcessTempDir() / "l.obj";
   ASSERT_TRUE(core::WriteGarmentObj(l_path, *l_mesh).ok());

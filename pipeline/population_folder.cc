@@ -59,11 +59,11 @@ absl::Status ReadParamsLines(const std::filesystem::path& path, v1::PopulationPr
 
 }  // namespace
 
-absl::Status WritePopulationFolder(const core::BodyModel& model, core::PopulationPreset preset,
+absl::Status WritePopulationFolder(const body::BodyModel& model, body::PopulationPreset preset,
                                    uint64_t seed, int64_t count,
                                    const std::filesystem::path& dir,
-                                   std::vector<core::CalibratedAvatar>* calibration) {
-  ASSIGN_OR_RETURN(const core::PopulationSampler sampler, core::PopulationSampler::Create(model));
+                                   std::vector<body::CalibratedAvatar>* calibration) {
+  ASSIGN_OR_RETURN(const body::PopulationSampler sampler, body::PopulationSampler::Create(model));
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec)
@@ -71,14 +71,14 @@ absl::Status WritePopulationFolder(const core::BodyModel& model, core::Populatio
   ProgressReporter progress("avatars", count, std::cerr, StderrIsTerminal());
   std::string params_lines;
   for (int64_t i = 0; i < count; ++i) {
-    core::BodyParams params;
-    if (core::IsCalibratedPreset(preset)) {
-      ASSIGN_OR_RETURN(core::CalibratedAvatar avatar,
+    body::BodyParams params;
+    if (body::IsCalibratedPreset(preset)) {
+      ASSIGN_OR_RETURN(body::CalibratedAvatar avatar,
                        sampler.SampleCalibrated(preset, seed, static_cast<uint64_t>(i)));
       params = avatar.params;
       if (calibration != nullptr) calibration->push_back(std::move(avatar));
     } else {
-      params = core::SampleBodyParams(preset, seed, static_cast<uint64_t>(i));
+      params = body::SampleBodyParams(preset, seed, static_cast<uint64_t>(i));
     }
     ASSIGN_OR_RETURN(core::Mesh body, model.BuildBody(params));
     RETURN_IF_ERROR(core::WriteObj(dir / AvatarFileName(i), body));
@@ -88,26 +88,26 @@ absl::Status WritePopulationFolder(const core::BodyModel& model, core::Populatio
   progress.Finish();
   RETURN_IF_ERROR(core::WriteFileAtomically(dir / kParamsFile, params_lines));
   v1::PopulationProvenance provenance;
-  provenance.set_preset(std::string(core::PopulationPresetName(preset)));
+  provenance.set_preset(std::string(body::PopulationPresetName(preset)));
   provenance.set_seed(seed);
   provenance.set_count(static_cast<uint32_t>(count));
   return core::WriteFileAtomically(dir / kProvenanceFile, proto::ToJson(provenance) + "\n");
 }
 
-absl::StatusOr<Population> SamplePopulation(const core::BodyModel& model,
-                                            core::PopulationPreset preset, uint64_t seed,
+absl::StatusOr<Population> SamplePopulation(const body::BodyModel& model,
+                                            body::PopulationPreset preset, uint64_t seed,
                                             int64_t count) {
   if (count < 2) {
     return absl::InvalidArgumentError(absl::StrCat("count ", count, ": a basis needs at least 2"));
   }
   Population population;
-  population.provenance.set_preset(std::string(core::PopulationPresetName(preset)));
+  population.provenance.set_preset(std::string(body::PopulationPresetName(preset)));
   population.provenance.set_seed(seed);
   population.provenance.set_count(static_cast<uint32_t>(count));
-  population.samples.resize(3 * core::kBodyVertexCount, count);
-  ASSIGN_OR_RETURN(const core::PopulationSampler sampler, core::PopulationSampler::Create(model));
+  population.samples.resize(3 * body::kBodyVertexCount, count);
+  ASSIGN_OR_RETURN(const body::PopulationSampler sampler, body::PopulationSampler::Create(model));
   for (int64_t i = 0; i < count; ++i) {
-    ASSIGN_OR_RETURN(const core::BodyParams params,
+    ASSIGN_OR_RETURN(const body::BodyParams params,
                      sampler.Sample(preset, seed, static_cast<uint64_t>(i)));
     ASSIGN_OR_RETURN(core::Mesh body, model.BuildBody(params));
     population.samples.col(i) =
@@ -118,14 +118,14 @@ absl::StatusOr<Population> SamplePopulation(const core::BodyModel& model,
   return population;
 }
 
-std::string CalibrationTable(const std::vector<core::CalibratedAvatar>& avatars) {
-  constexpr int kN = core::kSurveyMeasurementCount;
+std::string CalibrationTable(const std::vector<body::CalibratedAvatar>& avatars) {
+  constexpr int kN = body::kSurveyMeasurementCount;
   const std::array<double, kN> allowance = {0.004, 0.5, 0.009, 0.009, 0.009};
   std::string table;
-  for (const core::SurveyTable* survey : {&core::AnsurWomen(), &core::AnsurMen()}) {
-    const bool women = survey == &core::AnsurWomen();
-    std::vector<const core::CalibratedAvatar*> group;
-    for (const core::CalibratedAvatar& avatar : avatars) {
+  for (const body::SurveyTable* survey : {&body::AnsurWomen(), &body::AnsurMen()}) {
+    const bool women = survey == &body::AnsurWomen();
+    std::vector<const body::CalibratedAvatar*> group;
+    for (const body::CalibratedAvatar& avatar : avatars) {
       if ((avatar.params.gender < 0.5) == women) group.push_back(&avatar);
     }
     if (group.size() < 2) continue;
@@ -135,20 +135,20 @@ std::string CalibrationTable(const std::vector<core::CalibratedAvatar>& avatars)
                           "|---|---|---|---|---|---|---|---|\n",
                           survey->name, group.size());
     for (int k = 0; k < kN; ++k) {
-      const double unit = core::InTypedUnit(core::kSurveyMeasurements[k], 1.0);
+      const double unit = body::InTypedUnit(body::kSurveyMeasurements[k], 1.0);
       double sum = 0, squares = 0;
       int within = 0;
-      for (const core::CalibratedAvatar* avatar : group) {
+      for (const body::CalibratedAvatar* avatar : group) {
         sum += avatar->measured[k];
         within += std::abs(avatar->measured[k] - avatar->target[k]) <= allowance[k];
       }
       const double mean = sum / static_cast<double>(group.size());
-      for (const core::CalibratedAvatar* avatar : group) {
+      for (const body::CalibratedAvatar* avatar : group) {
         squares += (avatar->measured[k] - mean) * (avatar->measured[k] - mean);
       }
       const double sd = std::sqrt(squares / static_cast<double>(group.size() - 1));
       absl::StrAppendFormat(&table, "| %s | %.1f | %.1f | %.1f | %.1f | %+.2f | %.2f | %.1f%% |\n",
-                            core::MeasurementName(core::kSurveyMeasurements[k]),
+                            body::MeasurementName(body::kSurveyMeasurements[k]),
                             unit * survey->mean[k], unit * survey->sd[k], unit * mean, unit * sd,
                             (mean - survey->mean[k]) / survey->sd[k], sd / survey->sd[k],
                             100.0 * within / static_cast<double>(group.size()));
@@ -159,7 +159,7 @@ std::string CalibrationTable(const std::vector<core::CalibratedAvatar>& avatars)
     for (int a = 0; a < kN; ++a) {
       for (int b = a + 1; b < kN; ++b) {
         double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
-        for (const core::CalibratedAvatar* avatar : group) {
+        for (const body::CalibratedAvatar* avatar : group) {
           const double x = avatar->measured[a], y = avatar->measured[b];
           sa += x;
           sb += y;
@@ -174,8 +174,8 @@ std::string CalibrationTable(const std::vector<core::CalibratedAvatar>& avatars)
           worst = std::abs(r - survey->correlation[a][b]);
           worst_pair = absl::StrFormat(
               "%s-%s: survey %.2f, population %.2f",
-              core::MeasurementName(core::kSurveyMeasurements[a]),
-              core::MeasurementName(core::kSurveyMeasurements[b]), survey->correlation[a][b], r);
+              body::MeasurementName(body::kSurveyMeasurements[a]),
+              body::MeasurementName(body::kSurveyMeasurements[b]), survey->correlation[a][b], r);
         }
       }
     }
@@ -212,7 +212,7 @@ absl::StatusOr<Population> ReadPopulationFolder(const std::filesystem::path& dir
     return absl::InvalidArgumentError(
         absl::StrCat(dir.string(), " holds ", count, " avatars; a basis needs at least 2"));
   }
-  population.samples.resize(3 * core::kBodyVertexCount, count);
+  population.samples.resize(3 * body::kBodyVertexCount, count);
   ProgressReporter progress("reading avatars", count, std::cerr, StderrIsTerminal());
   for (int64_t i = 0; i < count; ++i) {
     ASSIGN_OR_RETURN(core::Mesh avatar, ReadAvatarObj(population.avatar_files[i]));

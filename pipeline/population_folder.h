@@ -7,9 +7,9 @@
 
 #include "Eigen/Core"
 #include "absl/status/statusor.h"
-#include "core/body_model.h"
-#include "core/population_calibration.h"
-#include "core/population_sampler.h"
+#include "body/body_model.h"
+#include "body/population_calibration.h"
+#include "body/population_sampler.h"
 #include "fitbase/v1/avatar_basis.pb.h"
 
 namespace fitbase::pipeline {
@@ -20,19 +20,19 @@ namespace fitbase::pipeline {
 //   avatar-NNNNN.obj one body avatar per line of params.jsonl (meters).
 // A folder of OBJ avatars from elsewhere (no population.json) is read in file-name order.
 
-// Samples `count` avatars of (preset, seed) (core::PopulationSampler), builds their bodies
+// Samples `count` avatars of (preset, seed) (body::PopulationSampler), builds their bodies
 // and writes the folder, showing progress on stderr. For a calibrated preset, `calibration`
 // (when given) receives each avatar's survey target and measurements.
-absl::Status WritePopulationFolder(const core::BodyModel& model, core::PopulationPreset preset,
+absl::Status WritePopulationFolder(const body::BodyModel& model, body::PopulationPreset preset,
                                    uint64_t seed, int64_t count,
                                    const std::filesystem::path& dir,
-                                   std::vector<core::CalibratedAvatar>* calibration = nullptr);
+                                   std::vector<body::CalibratedAvatar>* calibration = nullptr);
 
 // How a calibrated population reproduces its survey, as a Markdown table per sex: each
 // measurement's survey mean and SD against the population's (cm, kg), the mean's miss and the
 // SD's in units of the survey's SD, and the share of avatars within ISO 20685-1's allowance of
 // their drawn target (stature 4 mm, large girths 9 mm; weight 0.5 kg).
-std::string CalibrationTable(const std::vector<core::CalibratedAvatar>& avatars);
+std::string CalibrationTable(const std::vector<body::CalibratedAvatar>& avatars);
 
 struct Population {
   v1::PopulationProvenance provenance;  // With params when params.jsonl exists.
@@ -43,8 +43,8 @@ struct Population {
 
 // The population WritePopulationFolder would write, in memory and without rounding the
 // avatars to the folder's OBJ precision (so its basis id differs from the folder's).
-absl::StatusOr<Population> SamplePopulation(const core::BodyModel& model,
-                                            core::PopulationPreset preset, uint64_t seed,
+absl::StatusOr<Population> SamplePopulation(const body::BodyModel& model,
+                                            body::PopulationPreset preset, uint64_t seed,
                                             int64_t count);
 
 // Reads and validates every avatar of the folder (vertex counts, finiteness, units).

@@ -9,10 +9,10 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
+#include "body/population_sampler.h"
 #include "core/file_util.h"
 #include "core/obj_io.h"
-#include "core/population_sampler.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -23,18 +23,18 @@ namespace {
 
 using ::testing::HasSubstr;
 
-constexpr core::PopulationPreset kPreset = core::PopulationPreset::kWomen;
+constexpr body::PopulationPreset kPreset = body::PopulationPreset::kWomen;
 constexpr uint64_t kSeed = 7;
 constexpr int64_t kCount = 3;
 
 namespace fs = std::filesystem;
 
 
-const core::BodyModel& Model() {
-  static const core::BodyModel* model = [] {
-    auto loaded = core::BodyModel::Load(core::TestDataDir());
+const body::BodyModel& Model() {
+  static const body::BodyModel* model = [] {
+    auto loaded = body::BodyModel::Load(core::TestDataDir());
     EXPECT_TRUE(loaded.ok()) << loaded.status();
-    return new core::BodyModel(std::move(*loaded));
+    return new body::BodyModel(std::move(*loaded));
   }();
   return *model;
 }
@@ -85,17 +85,17 @@ TEST(PopulationFolderTest, ReadBackGivesProvenanceParamsAndBodies) {
   ASSERT_EQ(population->provenance.params_size(), 3);
   ASSERT_EQ(population->avatar_files.size(), 3u);
   EXPECT_EQ(population->avatar_files[2].filename(), "avatar-00002.obj");
-  ASSERT_EQ(population->samples.rows(), 3 * core::kBodyVertexCount);
+  ASSERT_EQ(population->samples.rows(), 3 * body::kBodyVertexCount);
   ASSERT_EQ(population->samples.rows(), 40140);
   ASSERT_EQ(population->samples.cols(), 3);
   EXPECT_EQ(population->faces, Model().body_faces());
 
-  auto sampler = core::PopulationSampler::Create(Model());
+  auto sampler = body::PopulationSampler::Create(Model());
   ASSERT_TRUE(sampler.ok()) << sampler.status();
   for (int i = 0; i < 3; ++i) {
     auto sampled = sampler->Sample(kPreset, kSeed, i);
     ASSERT_TRUE(sampled.ok()) << sampled.status();
-    const core::BodyParams expected = *sampled;
+    const body::BodyParams expected = *sampled;
     auto params = proto::BodyParamsFromProto(population->provenance.params(i));
     ASSERT_TRUE(params.ok()) << params.status();
     EXPECT_EQ(*params, expected) << "avatar " << i;
@@ -169,7 +169,7 @@ TEST(PopulationFolderTest, ParamsLineCountMustMatchCount) {
 TEST(PopulationFolderTest, AvatarWithWrongVertexCountIsNamed) {
   const fs::path dir = CopyOfWrittenFolder("short-avatar");
   core::Mesh truncated;
-  truncated.positions = Model().BuildBody(core::BodyParams{})->positions.topRows(500);
+  truncated.positions = Model().BuildBody(body::BodyParams{})->positions.topRows(500);
   ASSERT_TRUE(core::WriteObj(dir / "avatar-00001.obj", truncated).ok());
   auto population = ReadPopulationFolder(dir);
   ASSERT_FALSE(population.ok());

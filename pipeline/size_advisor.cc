@@ -4,8 +4,8 @@
 #include <limits>
 
 #include "absl/strings/str_cat.h"
-#include "core/body_model.h"
-#include "core/body_skeleton.h"
+#include "body/body_model.h"
+#include "body/body_skeleton.h"
 #include "core/status_macros.h"
 #include "proto/garment_codec.h"
 #include "proto/mesh_codec.h"
@@ -14,13 +14,13 @@
 namespace fitbase::pipeline {
 namespace {
 
-using core::BodyLandmarks;
+using body::BodyLandmarks;
 
 
 // Rest lengths of every triangle edge, by triangle (TriangleEdgeLengths' layout).
-core::TriangleEdgeLengths ByTriangle(const core::Triangles& triangles,
+clothing::TriangleEdgeLengths ByTriangle(const core::Triangles& triangles,
                                      const Eigen::VectorXd& lengths) {
-  core::TriangleEdgeLengths out(triangles.rows(), 3);
+  clothing::TriangleEdgeLengths out(triangles.rows(), 3);
   for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
     for (int c = 0; c < 3; ++c) out(t, c) = lengths(3 * t + c);
   }
@@ -84,34 +84,34 @@ std::pair<double, double> Sleeve(const AdviceGarment& garment, const core::Posit
 absl::StatusOr<AdviceGarment> PrepareAdviceGarment(const v1::Garment& garment) {
   AdviceGarment out;
   if (!garment.garment_type().empty()) {
-    ASSIGN_OR_RETURN(out.type, core::ParseGarmentType(garment.garment_type()));
+    ASSIGN_OR_RETURN(out.type, clothing::ParseGarmentType(garment.garment_type()));
   }
   ASSIGN_OR_RETURN(core::GarmentMesh tmpl, proto::GarmentTemplateFromProto(garment));
   const core::Positions& rest = tmpl.mesh.positions;
   out.triangles = core::Triangulate(tmpl.mesh.faces);
   ASSIGN_OR_RETURN(core::Positions axes, proto::LengthAxesFromProto(garment));
-  ASSIGN_OR_RETURN(std::vector<core::BodyRegion> regions, proto::RegionsFromProto(garment));
+  ASSIGN_OR_RETURN(std::vector<body::BodyRegion> regions, proto::RegionsFromProto(garment));
   ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(garment.mean_avatar()));
-  if (mean.vertex_count() < core::kBodyVertexCount) {
+  if (mean.vertex_count() < body::kBodyVertexCount) {
     return absl::InvalidArgumentError(absl::StrCat("garment ", garment.id(), "'s mean avatar has ",
                                                    mean.vertex_count(), " vertices"));
   }
-  const core::Positions mean_body = mean.positions.topRows(core::kBodyVertexCount);
+  const core::Positions mean_body = mean.positions.topRows(body::kBodyVertexCount);
   // The body's left side is the left acromion's side of the centre plane.
   const double left = mean_body(BodyLandmarks::kLeftAcromion, 0) > 0 ? 1.0 : -1.0;
   for (int32_t v = 0; v < static_cast<int32_t>(regions.size()); ++v) {
     const bool on_left = rest(v, 0) * left > 0;
     switch (regions[v]) {
-      case core::BodyRegion::kTorso:
+      case body::BodyRegion::kTorso:
         out.torso_vertices.push_back(v);
         break;
-      case core::BodyRegion::kArms:
+      case body::BodyRegion::kArms:
         if (on_left) out.sleeve_vertices.push_back(v);
         break;
-      case core::BodyRegion::kLegs:
+      case body::BodyRegion::kLegs:
         if (on_left) out.leg_vertices.push_back(v);
         break;
-      case core::BodyRegion::kFeet:
+      case body::BodyRegion::kFeet:
         break;
     }
   }
@@ -145,24 +145,24 @@ absl::StatusOr<AdviceGarment> PrepareAdviceGarment(const v1::Garment& garment) {
 
 absl::StatusOr<AdviceBody> MeasureAdviceBody(core::Positions positions,
                                              core::Triangles triangles) {
-  constexpr core::Measurement kGirths[] = {
-      core::Measurement::kBustGirth, core::Measurement::kWaistGirth,
-      core::Measurement::kHipGirth, core::Measurement::kThighGirth,
-      core::Measurement::kUpperArmGirth};
-  std::array<std::optional<core::GirthPlace>, core::kMeasurementCount> places;
-  ASSIGN_OR_RETURN(core::BodyMeasurements measurements,
-                   core::MeasureBody(positions, triangles, kGirths, &places));
-  std::array<AdviceBody::TorsoSection, core::kMeasurementCount> torso_sections;
-  for (core::Measurement torso : {core::Measurement::kBustGirth, core::Measurement::kWaistGirth,
-                                  core::Measurement::kHipGirth}) {
-    const core::GirthPlace& place = *places[static_cast<int>(torso)];
-    const core::PlaneSection section =
-        core::SectionMesh(positions, triangles, place.point, place.normal);
+  constexpr body::Measurement kGirths[] = {
+      body::Measurement::kBustGirth, body::Measurement::kWaistGirth,
+      body::Measurement::kHipGirth, body::Measurement::kThighGirth,
+      body::Measurement::kUpperArmGirth};
+  std::array<std::optional<body::GirthPlace>, body::kMeasurementCount> places;
+  ASSIGN_OR_RETURN(body::BodyMeasurements measurements,
+                   body::MeasureBody(positions, triangles, kGirths, &places));
+  std::array<AdviceBody::TorsoSection, body::kMeasurementCount> torso_sections;
+  for (body::Measurement torso : {body::Measurement::kBustGirth, body::Measurement::kWaistGirth,
+                                  body::Measurement::kHipGirth}) {
+    const body::GirthPlace& place = *places[static_cast<int>(torso)];
+    const body::PlaneSection section =
+        body::SectionMesh(positions, triangles, place.point, place.normal);
     AdviceBody::TorsoSection& split = torso_sections[static_cast<int>(torso)];
     for (const auto& loop : section.loops) {
       // The torso's loop is the one that holds the measured point; the arms' lie beside it.
       const bool is_torso =
-          loop.size() >= 3 && std::isfinite(core::GirthAround(
+          loop.size() >= 3 && std::isfinite(body::GirthAround(
                                   {section.origin, section.u, section.v, {loop}, {}, {}},
                                   place.inside));
       for (const Eigen::Vector2d& q : loop) {
@@ -186,23 +186,23 @@ absl::StatusOr<SizeJudgement> JudgeSize(const AdviceGarment& garment, int size,
     return absl::InvalidArgumentError(absl::StrCat("the fitted garment has ", fitted.rows(),
                                                    " vertices, fewer than its faces use, or non-finite positions"));
   }
-  const core::TriangleEdgeLengths& rest = garment.rest[size];
+  const clothing::TriangleEdgeLengths& rest = garment.rest[size];
   SizeJudgement out;
-  constexpr std::pair<core::FitRegion, core::Measurement> kGirths[] = {
-      {core::FitRegion::kBust, core::Measurement::kBustGirth},
-      {core::FitRegion::kWaist, core::Measurement::kWaistGirth},
-      {core::FitRegion::kHip, core::Measurement::kHipGirth},
-      {core::FitRegion::kThigh, core::Measurement::kThighGirth},
-      {core::FitRegion::kUpperArm, core::Measurement::kUpperArmGirth}};
+  constexpr std::pair<clothing::FitRegion, body::Measurement> kGirths[] = {
+      {clothing::FitRegion::kBust, body::Measurement::kBustGirth},
+      {clothing::FitRegion::kWaist, body::Measurement::kWaistGirth},
+      {clothing::FitRegion::kHip, body::Measurement::kHipGirth},
+      {clothing::FitRegion::kThigh, body::Measurement::kThighGirth},
+      {clothing::FitRegion::kUpperArm, body::Measurement::kUpperArmGirth}};
   for (const auto& [region, measurement] : kGirths) {
     const auto& place = body.places[static_cast<int>(measurement)];
     if (!place.has_value()) continue;
     // A limb's loop must go round that limb alone: not hold the other thigh too (shorts cut
     // low between the legs), nor the torso (a sleeve's section that runs into the body).
     std::vector<Eigen::Vector3d> outside;
-    if (region == core::FitRegion::kThigh) {
+    if (region == clothing::FitRegion::kThigh) {
       outside.push_back(place->inside.cwiseProduct(Eigen::Vector3d(-1, 1, 1)));
-    } else if (region == core::FitRegion::kUpperArm) {
+    } else if (region == clothing::FitRegion::kUpperArm) {
       outside.push_back(Eigen::Vector3d(0, place->inside.y(), place->inside.z()));
     }
     const AdviceBody::TorsoSection& split = body.torso_sections[static_cast<int>(measurement)];
@@ -217,13 +217,13 @@ absl::StatusOr<SizeJudgement> JudgeSize(const AdviceGarment& garment, int size,
         return nearest(split.torso, x) <= nearest(split.others, x);
       };
     }
-    const std::optional<core::GarmentGirth> girth =
-        core::GarmentGirthAt(fitted, garment.triangles, rest, *place, outside, counts);
+    const std::optional<clothing::GarmentGirth> girth =
+        clothing::GarmentGirthAt(fitted, garment.triangles, rest, *place, outside, counts);
     const double body_girth = body.measurements[static_cast<int>(measurement)];
     // Twice the body's girth is no garment's ease there but a section that caught more than
     // that part of the body; the region is left unjudged rather than judged wrong.
     if (!girth.has_value() || girth->rest > kMaxGirthRatio * body_girth) continue;
-    core::RegionFitValue value{.region = region};
+    clothing::RegionFitValue value{.region = region};
     value.body_cm = 100 * body_girth;
     value.garment_cm = 100 * girth->rest;
     value.ease_cm = value.garment_cm - value.body_cm;
@@ -232,7 +232,7 @@ absl::StatusOr<SizeJudgement> JudgeSize(const AdviceGarment& garment, int size,
   }
   const auto [length, body_length] = Length(garment, fitted, body.positions);
   if (std::isfinite(length)) {
-    out.regions.push_back({.region = core::FitRegion::kGarmentLength,
+    out.regions.push_back({.region = clothing::FitRegion::kGarmentLength,
                            .body_cm = body_length,
                            .garment_cm = length,
                            .ease_cm = length - body_length,
@@ -240,46 +240,46 @@ absl::StatusOr<SizeJudgement> JudgeSize(const AdviceGarment& garment, int size,
   }
   const auto [sleeve, arm] = Sleeve(garment, fitted, body.positions);
   if (std::isfinite(sleeve)) {
-    out.regions.push_back({.region = core::FitRegion::kSleeveLength,
+    out.regions.push_back({.region = clothing::FitRegion::kSleeveLength,
                            .body_cm = arm,
                            .garment_cm = sleeve,
                            .ease_cm = sleeve - arm,
                            .design_ease_cm = garment.design_sleeve_cm});
   }
-  core::JudgeRegions(garment.type, out.regions);
-  out.ease_mm = core::VertexEaseMm(fitted, body.bvh, /*max_mm=*/200);
-  out.stretch_pct = core::VertexStretchPercent(fitted, garment.triangles, rest);
+  clothing::JudgeRegions(garment.type, out.regions);
+  out.ease_mm = clothing::VertexEaseMm(fitted, body.bvh, /*max_mm=*/200);
+  out.stretch_pct = clothing::VertexStretchPercent(fitted, garment.triangles, rest);
   return out;
 }
 
 v1::SizeAdvice AssembleAdvice(const AdviceGarment& garment, const std::vector<int>& sizes,
                               const std::vector<SizeJudgement>& judged, bool with_maps) {
   std::vector<std::string> names;
-  std::vector<std::vector<core::RegionFitValue>> values;
+  std::vector<std::vector<clothing::RegionFitValue>> values;
   for (size_t i = 0; i < sizes.size(); ++i) {
     names.push_back(garment.size_names[sizes[i]]);
     values.push_back(judged[i].regions);
   }
-  const core::SizeRecommendation recommendation =
-      core::RecommendSize(garment.type, names, values);
+  const clothing::SizeRecommendation recommendation =
+      clothing::RecommendSize(garment.type, names, values);
   v1::SizeAdvice advice;
-  advice.set_garment_type(std::string(core::GarmentTypeName(garment.type)));
+  advice.set_garment_type(std::string(clothing::GarmentTypeName(garment.type)));
   if (recommendation.best >= 0) advice.set_recommended_size(names[recommendation.best]);
   advice.set_confidence(recommendation.confidence);
   for (const std::string& reason : recommendation.reasons) advice.add_reasons(reason);
   for (size_t i = 0; i < sizes.size(); ++i) {
     v1::SizeFit* fit = advice.add_sizes();
     fit->set_size(names[i]);
-    fit->set_verdict(std::string(core::VerdictName(recommendation.overall[i])));
+    fit->set_verdict(std::string(clothing::VerdictName(recommendation.overall[i])));
     fit->set_summary(recommendation.summaries[i]);
-    for (const core::RegionFitValue& value : judged[i].regions) {
+    for (const clothing::RegionFitValue& value : judged[i].regions) {
       v1::RegionFit* region = fit->add_regions();
-      region->set_region(std::string(core::FitRegionName(value.region)));
+      region->set_region(std::string(clothing::FitRegionName(value.region)));
       region->set_body_cm(value.body_cm);
       region->set_garment_cm(value.garment_cm);
       region->set_ease_cm(value.ease_cm);
       region->set_stretch_pct(value.stretch_pct);
-      region->set_verdict(std::string(core::VerdictName(value.verdict)));
+      region->set_verdict(std::string(clothing::VerdictName(value.verdict)));
     }
     if (with_maps) {
       fit->mutable_ease_mm()->Assign(judged[i].ease_mm.data(),

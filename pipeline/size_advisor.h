@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "core/body_measurements.h"
-#include "core/garment_measure.h"
+#include "body/body_measurements.h"
+#include "clothing/garment_measure.h"
+#include "clothing/size_advice.h"
 #include "core/mesh.h"
-#include "core/size_advice.h"
 #include "core/triangle_bvh.h"
 #include "fitbase/v1/fit_service.pb.h"
 #include "fitbase/v1/garment.pb.h"
@@ -21,10 +21,10 @@ namespace fitbase::pipeline {
 // size's rest edge lengths, the vertices that make its sleeves and legs, and the ease of its
 // lengths as designed (the template on the mean body).
 struct AdviceGarment {
-  core::GarmentType type = core::GarmentType::kShirt;
+  clothing::GarmentType type = clothing::GarmentType::kShirt;
   core::Triangles triangles;
   std::vector<std::string> size_names;                // As stored (grading order).
-  std::vector<core::TriangleEdgeLengths> rest;        // Per size.
+  std::vector<clothing::TriangleEdgeLengths> rest;        // Per size.
   std::vector<int32_t> sleeve_vertices;               // The left sleeve's.
   std::vector<int32_t> leg_vertices;                  // The left trouser leg's.
   std::vector<int32_t> torso_vertices;
@@ -41,8 +41,8 @@ absl::StatusOr<AdviceGarment> PrepareAdviceGarment(const v1::Garment& garment);
 struct AdviceBody {
   core::Positions positions;
   core::Triangles triangles;
-  core::BodyMeasurements measurements;
-  std::array<std::optional<core::GirthPlace>, core::kMeasurementCount> places;
+  body::BodyMeasurements measurements;
+  std::array<std::optional<body::GirthPlace>, body::kMeasurementCount> places;
   // Per torso girth, the body's section there split into the torso's loop and the rest (the
   // arms beside it), world points: a garment's section point counts for the torso when the
   // torso is its nearest part of the body, so that sleeves beside the chest are left out.
@@ -50,7 +50,7 @@ struct AdviceBody {
     std::vector<Eigen::Vector3d> torso;
     std::vector<Eigen::Vector3d> others;
   };
-  std::array<TorsoSection, core::kMeasurementCount> torso_sections;
+  std::array<TorsoSection, body::kMeasurementCount> torso_sections;
   core::TriangleBvh bvh;
 };
 absl::StatusOr<AdviceBody> MeasureAdviceBody(core::Positions positions, core::Triangles triangles);
@@ -58,7 +58,7 @@ absl::StatusOr<AdviceBody> MeasureAdviceBody(core::Positions positions, core::Tr
 // One size fitted to the body: its regions (judged) and per-vertex fit map. fitted: V x 3 (m)
 // in the garment's vertex order.
 struct SizeJudgement {
-  std::vector<core::RegionFitValue> regions;
+  std::vector<clothing::RegionFitValue> regions;
   Eigen::VectorXf ease_mm;
   Eigen::VectorXf stretch_pct;
 };

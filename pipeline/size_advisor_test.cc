@@ -4,8 +4,8 @@
 #include <string>
 
 #include "absl/strings/str_cat.h"
-#include "core/body_model.h"
-#include "core/body_params.h"
+#include "body/body_model.h"
+#include "body/body_params.h"
 #include "core/file_util.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
@@ -23,11 +23,11 @@ namespace {
 class SizeAdvisorTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    absl::StatusOr<core::BodyModel> model = core::BodyModel::Load(core::TestDataDir());
+    absl::StatusOr<body::BodyModel> model = body::BodyModel::Load(core::TestDataDir());
     ASSERT_TRUE(model.ok()) << model.status();
     v1::AvatarBasis basis;
     basis.set_id("size-advisor-test-basis");
-    core::BodyParams params;
+    body::BodyParams params;
     params.gender = 0.9;
     *basis.mutable_population()->add_params() = proto::BodyParamsToProto(params);
     params.weight = 0.7;
@@ -47,8 +47,8 @@ class SizeAdvisorTest : public ::testing::Test {
   static absl::StatusOr<AdviceBody> MeanBody() {
     absl::StatusOr<core::Mesh> mean = proto::MeshFromProto(garment_->mean_avatar());
     if (!mean.ok()) return mean.status();
-    return MeasureAdviceBody(mean->positions.topRows(core::kBodyVertexCount),
-                             core::Triangulate(core::BodyFacesOf(mean->faces)));
+    return MeasureAdviceBody(mean->positions.topRows(body::kBodyVertexCount),
+                             core::Triangulate(body::BodyFacesOf(mean->faces)));
   }
 
   static v1::Garment* garment_;
@@ -56,7 +56,7 @@ class SizeAdvisorTest : public ::testing::Test {
 
 v1::Garment* SizeAdvisorTest::garment_ = nullptr;
 
-const core::RegionFitValue* Find(const SizeJudgement& judged, core::FitRegion region) {
+const clothing::RegionFitValue* Find(const SizeJudgement& judged, clothing::FitRegion region) {
   for (const auto& value : judged.regions) {
     if (value.region == region) return &value;
   }
@@ -66,7 +66,7 @@ const core::RegionFitValue* Find(const SizeJudgement& judged, core::FitRegion re
 TEST_F(SizeAdvisorTest, TheTemplateOnTheMeanBodyIsSizeMUnstretchedWithEaseGrowingBySize) {
   absl::StatusOr<AdviceGarment> garment = PrepareAdviceGarment(*garment_);
   ASSERT_TRUE(garment.ok()) << garment.status();
-  EXPECT_EQ(garment->type, core::GarmentType::kShirt);
+  EXPECT_EQ(garment->type, clothing::GarmentType::kShirt);
   ASSERT_EQ(garment->size_names, (std::vector<std::string>{"S", "M", "L"}));
   EXPECT_FALSE(garment->sleeve_vertices.empty());
   EXPECT_FALSE(garment->leg_vertices.empty());
@@ -81,7 +81,7 @@ TEST_F(SizeAdvisorTest, TheTemplateOnTheMeanBodyIsSizeMUnstretchedWithEaseGrowin
     ASSERT_TRUE(one.ok()) << one.status();
     judged.push_back(*std::move(one));
   }
-  const core::RegionFitValue* bust_m = Find(judged[1], core::FitRegion::kBust);
+  const clothing::RegionFitValue* bust_m = Find(judged[1], clothing::FitRegion::kBust);
   ASSERT_NE(bust_m, nullptr);
   // A T-shirt: a shirt's ease at the chest.
   EXPECT_GT(bust_m->ease_cm, 0.0);
@@ -90,19 +90,19 @@ TEST_F(SizeAdvisorTest, TheTemplateOnTheMeanBodyIsSizeMUnstretchedWithEaseGrowin
   // A grading step is 5% of girth across the length axes; near the armholes those axes turn
   // toward the sleeves, so a chest's loop grows by a little less. S worn at M's shape is
   // stretched by as much.
-  const core::RegionFitValue* bust_s = Find(judged[0], core::FitRegion::kBust);
-  const core::RegionFitValue* bust_l = Find(judged[2], core::FitRegion::kBust);
+  const clothing::RegionFitValue* bust_s = Find(judged[0], clothing::FitRegion::kBust);
+  const clothing::RegionFitValue* bust_l = Find(judged[2], clothing::FitRegion::kBust);
   ASSERT_NE(bust_s, nullptr);
   ASSERT_NE(bust_l, nullptr);
   EXPECT_NEAR(bust_m->garment_cm / bust_s->garment_cm, 1.045, 0.015);
   EXPECT_NEAR(bust_l->garment_cm / bust_m->garment_cm, 1.045, 0.015);
   EXPECT_NEAR(bust_s->stretch_pct, 4.5, 1.5);
   // Lengths as designed on the mean body are regular.
-  for (auto region : {core::FitRegion::kGarmentLength, core::FitRegion::kSleeveLength}) {
-    const core::RegionFitValue* length = Find(judged[1], region);
-    ASSERT_NE(length, nullptr) << core::FitRegionName(region);
+  for (auto region : {clothing::FitRegion::kGarmentLength, clothing::FitRegion::kSleeveLength}) {
+    const clothing::RegionFitValue* length = Find(judged[1], region);
+    ASSERT_NE(length, nullptr) << clothing::FitRegionName(region);
     EXPECT_NEAR(length->ease_cm, length->design_ease_cm, 1e-9);
-    EXPECT_EQ(length->verdict, core::Verdict::kRegular);
+    EXPECT_EQ(length->verdict, clothing::Verdict::kRegular);
   }
   // The fit map: one value per vertex; the template clears the skin nearly everywhere.
   ASSERT_EQ(judged[1].ease_mm.size(), tmpl->mesh.positions.rows());

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "absl/strings/str_cat.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/status_macros.h"
 #include "proto/avatar_params_codec.h"
 #include "proto/draco_codec.h"
@@ -41,10 +41,10 @@ std::string UnitHint(double value, double low, double high) {
 }
 
 absl::Status ValidateBody(const core::Positions& positions) {
-  if (positions.rows() != core::kBodyVertexCount) {
+  if (positions.rows() != body::kBodyVertexCount) {
     return absl::InvalidArgumentError(absl::StrCat("avatar has ", positions.rows(),
-                                                   " vertices; a ", core::kBodyTopologyId,
-                                                   " avatar has ", core::kBodyVertexCount));
+                                                   " vertices; a ", body::kBodyTopologyId,
+                                                   " avatar has ", body::kBodyVertexCount));
   }
   for (Eigen::Index v = 0; v < positions.rows(); ++v) {
     if (!positions.row(v).allFinite()) {
@@ -107,17 +107,17 @@ absl::StatusOr<core::Positions> AvatarPositions(const v1::Avatar& avatar) {
         absl::StrCat("avatar format_version is ", avatar.format_version(),
                      "; this reader supports format_version ", kAvatarFormatVersion));
   }
-  if (avatar.topology_id() != core::kBodyTopologyId) {
+  if (avatar.topology_id() != body::kBodyTopologyId) {
     return absl::InvalidArgumentError(absl::StrCat("avatar topology_id is \"",
                                                    avatar.topology_id(), "\"; expected \"",
-                                                   core::kBodyTopologyId, "\""));
+                                                   body::kBodyTopologyId, "\""));
   }
-  auto xyz = DecodePositions(avatar.positions(), core::kBodyVertexCount);
+  auto xyz = DecodePositions(avatar.positions(), body::kBodyVertexCount);
   if (!xyz.ok()) {
     return absl::Status(xyz.status().code(),
                         absl::StrCat("avatar positions: ", xyz.status().message()));
   }
-  core::Positions positions(core::kBodyVertexCount, 3);
+  core::Positions positions(body::kBodyVertexCount, 3);
   for (Eigen::Index i = 0; i < positions.size(); ++i) positions.data()[i] = (*xyz)[i];
   RETURN_IF_ERROR(ValidateBody(positions));
   RETURN_IF_ERROR(ValidateMeasurements(avatar.measurements()));
@@ -132,7 +132,7 @@ absl::StatusOr<v1::Avatar> AvatarFromPositions(const core::Positions& positions,
   const std::vector<float> xyz(positions.data(), positions.data() + positions.size());
   v1::Avatar avatar;
   avatar.set_format_version(kAvatarFormatVersion);
-  avatar.set_topology_id(std::string(core::kBodyTopologyId));
+  avatar.set_topology_id(std::string(body::kBodyTopologyId));
   if (draco) {
     ASSIGN_OR_RETURN(*avatar.mutable_positions(), EncodeDracoPositions(xyz));
   } else {

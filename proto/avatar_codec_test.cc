@@ -5,7 +5,7 @@
 #include <string>
 
 #include "absl/status/status.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/garment_obj.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
@@ -22,14 +22,14 @@ core::Positions BaseBody() {
   auto base = core::ReadGarmentObj(core::TestDataDir() / "base.obj");
   EXPECT_TRUE(base.ok()) << base.status();
   if (!base.ok()) return {};
-  return base->mesh.positions.topRows(core::kBodyVertexCount) * core::kMetersPerDataUnit;
+  return base->mesh.positions.topRows(body::kBodyVertexCount) * body::kMetersPerDataUnit;
 }
 
 class AvatarCodecTest : public ::testing::Test {
  protected:
   void SetUp() override {
     body_ = BaseBody();
-    ASSERT_EQ(body_.rows(), core::kBodyVertexCount);
+    ASSERT_EQ(body_.rows(), body::kBodyVertexCount);
     auto avatar = AvatarFromPositions(body_, /*draco=*/false);
     ASSERT_TRUE(avatar.ok()) << avatar.status();
     raw_ = *avatar;
@@ -66,7 +66,7 @@ TEST_F(AvatarCodecTest, RawRoundTripIsExactToFloat32) {
   EXPECT_FALSE(raw_.has_measurements());
   auto positions = AvatarPositions(raw_);
   ASSERT_TRUE(positions.ok()) << positions.status();
-  ASSERT_EQ(positions->rows(), core::kBodyVertexCount);
+  ASSERT_EQ(positions->rows(), body::kBodyVertexCount);
   for (Eigen::Index i = 0; i < body_.size(); ++i) {
     ASSERT_EQ(positions->data()[i], static_cast<float>(body_.data()[i])) << i;
   }

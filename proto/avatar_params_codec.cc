@@ -4,8 +4,8 @@
 
 namespace fitbase::proto {
 
-absl::StatusOr<core::BodyParams> BodyParamsFromProto(const v1::AvatarParams& m) {
-  core::BodyParams p;
+absl::StatusOr<body::BodyParams> BodyParamsFromProto(const v1::AvatarParams& m) {
+  body::BodyParams p;
   if (m.has_gender()) p.gender = m.gender();
   if (m.has_age_years()) p.age_years = m.age_years();
   if (m.has_muscle()) p.muscle = m.muscle();
@@ -18,11 +18,11 @@ absl::StatusOr<core::BodyParams> BodyParamsFromProto(const v1::AvatarParams& m) 
   if (m.has_breast_size()) p.breast_size = m.breast_size();
   if (m.has_breast_firmness()) p.breast_firmness = m.breast_firmness();
   for (const auto& [name, value] : m.modifiers()) p.modifiers[name] = value;
-  RETURN_IF_ERROR(core::ValidateBodyParams(p));
+  RETURN_IF_ERROR(body::ValidateBodyParams(p));
   return p;
 }
 
-v1::AvatarParams BodyParamsToProto(const core::BodyParams& p) {
+v1::AvatarParams BodyParamsToProto(const body::BodyParams& p) {
   v1::AvatarParams m;
   m.set_gender(p.gender);
   m.set_age_years(p.age_years);

@@ -16,8 +16,8 @@ using ::testing::HasSubstr;
 constexpr char kWaist[] = "measure/measure-waist-circ-decr|incr";
 constexpr char kHips[] = "hip/hip-scale-depth-decr|incr";
 
-core::BodyParams NonDefaultParams() {
-  core::BodyParams p;
+body::BodyParams NonDefaultParams() {
+  body::BodyParams p;
   p.gender = 0.1;
   p.age_years = 47.5;
   p.muscle = 0.3;
@@ -41,7 +41,7 @@ void ExpectInvalid(const v1::AvatarParams& message, const std::string& needle) {
 TEST(AvatarParamsCodecTest, EmptyMessageIsTheDefaultHuman) {
   auto params = BodyParamsFromProto(v1::AvatarParams());
   ASSERT_TRUE(params.ok()) << params.status();
-  EXPECT_EQ(*params, core::BodyParams{});
+  EXPECT_EQ(*params, body::BodyParams{});
 }
 
 TEST(AvatarParamsCodecTest, UnsetFieldsTakeDefaultsAndSetOnesAreKept) {
@@ -50,14 +50,14 @@ TEST(AvatarParamsCodecTest, UnsetFieldsTakeDefaultsAndSetOnesAreKept) {
   message.set_age_years(60.0);
   auto params = BodyParamsFromProto(message);
   ASSERT_TRUE(params.ok()) << params.status();
-  core::BodyParams expected;
+  body::BodyParams expected;
   expected.gender = 0.0;
   expected.age_years = 60.0;
   EXPECT_EQ(*params, expected);
 }
 
 TEST(AvatarParamsCodecTest, ToProtoSetsEveryField) {
-  const v1::AvatarParams message = BodyParamsToProto(core::BodyParams{});
+  const v1::AvatarParams message = BodyParamsToProto(body::BodyParams{});
   EXPECT_TRUE(message.has_gender());
   EXPECT_TRUE(message.has_age_years());
   EXPECT_TRUE(message.has_muscle());
@@ -74,7 +74,7 @@ TEST(AvatarParamsCodecTest, ToProtoSetsEveryField) {
 }
 
 TEST(AvatarParamsCodecTest, RoundTripIsExact) {
-  const core::BodyParams original = NonDefaultParams();
+  const body::BodyParams original = NonDefaultParams();
   const v1::AvatarParams message = BodyParamsToProto(original);
   EXPECT_EQ(message.gender(), 0.1);
   EXPECT_EQ(message.modifiers().at(kWaist), -0.4);

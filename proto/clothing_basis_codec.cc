@@ -24,8 +24,8 @@ absl::StatusOr<v1::Mesh> FacesAtMean(const v1::ClothingBasis& message) {
 
 }  // namespace
 
-void ClothingModelToProto(const core::ClothingModel& model, v1::ClothingBasis* message) {
-  message->set_method(core::ClothingMethodName(model.method));
+void ClothingModelToProto(const clothing::ClothingModel& model, v1::ClothingBasis* message) {
+  message->set_method(clothing::ClothingMethodName(model.method));
   message->set_vertex_count(static_cast<uint32_t>(model.vertex_count()));
   message->set_component_count(static_cast<uint32_t>(model.component_count));
   const auto mean = model.mean();
@@ -35,11 +35,11 @@ void ClothingModelToProto(const core::ClothingModel& model, v1::ClothingBasis* m
   message->mutable_term_component()->Assign(model.term_component.begin(),
                                             model.term_component.end());
   message->mutable_term_power()->Assign(model.term_power.begin(), model.term_power.end());
-  if (model.method != core::ClothingMethod::kKernel) {
+  if (model.method != clothing::ClothingMethod::kKernel) {
     message->clear_kernel();
     return;
   }
-  const core::KernelCorrection& kernel = model.kernel;
+  const clothing::KernelCorrection& kernel = model.kernel;
   v1::KernelCorrection* out = message->mutable_kernel();
   out->set_length_scale(kernel.length_scale);
   out->mutable_input_scale()->Assign(kernel.input_scale.begin(), kernel.input_scale.end());
@@ -53,7 +53,7 @@ void ClothingModelToProto(const core::ClothingModel& model, v1::ClothingBasis* m
   out->mutable_outputs()->Assign(outputs.begin(), outputs.end());
 }
 
-void BodyCorrespondenceToProto(const core::BodyCorrespondence& correspondence,
+void BodyCorrespondenceToProto(const clothing::BodyCorrespondence& correspondence,
                                v1::BodyCorrespondence* message) {
   message->set_offset(correspondence.offset);
   message->set_anchors_per_vertex(static_cast<uint32_t>(correspondence.anchors_per_vertex));
@@ -74,8 +74,9 @@ void BodyCorrespondenceToProto(const core::BodyCorrespondence& correspondence,
   message->set_smoothing_iterations(static_cast<uint32_t>(correspondence.smoothing_iterations));
 }
 
-absl::StatusOr<core::ClothingModel> ClothingModelFromProto(const v1::ClothingBasis& message) {
-  ASSIGN_OR_RETURN(core::ClothingMethod method, core::ParseClothingMethod(message.method()));
+absl::StatusOr<clothing::ClothingModel> ClothingModelFromProto(const v1::ClothingBasis& message) {
+  ASSIGN_OR_RETURN(clothing::ClothingMethod method,
+                   clothing::ParseClothingMethod(message.method()));
   const int64_t d = 3 * static_cast<int64_t>(message.vertex_count());
   const int64_t t = message.term_component_size();
   if (message.mean_size() != d || message.terms_size() != d * t ||
@@ -90,7 +91,7 @@ absl::StatusOr<core::ClothingModel> ClothingModelFromProto(const v1::ClothingBas
   const int64_t m = kernel.center_count();
   const int64_t c = kernel.output_count();
   // Bounds before any product of counts, so a hostile file cannot overflow the checks.
-  const int64_t scales = method == core::ClothingMethod::kKernel ? n : 0;
+  const int64_t scales = method == clothing::ClothingMethod::kKernel ? n : 0;
   if (n > (1 << 16) || m > (1 << 20) || c > (1 << 16) || kernel.input_scale_size() != scales ||
       kernel.centers_size() != n * m || kernel.coefficients_size() != c * m ||
       kernel.outputs_size() != c * d) {
@@ -100,14 +101,14 @@ absl::StatusOr<core::ClothingModel> ClothingModelFromProto(const v1::ClothingBas
         c * m, " and ", c * d, ", found ", kernel.centers_size(), ", ",
         kernel.coefficients_size(), " and ", kernel.outputs_size()));
   }
-  core::ClothingModel model;
+  clothing::ClothingModel model;
   model.method = method;
   model.component_count = static_cast<int>(n);
   model.basis.resize(d, 1 + t + c);
   model.basis.col(0) = Eigen::Map<const Eigen::VectorXf>(message.mean().data(), d);
   model.basis.middleCols(1, t) = Eigen::Map<const Eigen::MatrixXf>(message.terms().data(), d, t);
   model.basis.rightCols(c) = Eigen::Map<const Eigen::MatrixXf>(kernel.outputs().data(), d, c);
-  if (method == core::ClothingMethod::kKernel) {
+  if (method == clothing::ClothingMethod::kKernel) {
     model.kernel.length_scale = kernel.length_scale();
     model.kernel.input_scale = Eigen::Map<const Eigen::VectorXf>(kernel.input_scale().data(), n);
     model.kernel.centers = Eigen::Map<const Eigen::MatrixXf>(kernel.centers().data(), n, m);
@@ -118,11 +119,11 @@ absl::StatusOr<core::ClothingModel> ClothingModelFromProto(const v1::ClothingBas
     model.term_component.push_back(static_cast<int32_t>(message.term_component(i)));
     model.term_power.push_back(static_cast<int32_t>(message.term_power(i)));
   }
-  RETURN_IF_ERROR(core::ValidateClothingModel(model));
+  RETURN_IF_ERROR(clothing::ValidateClothingModel(model));
   return model;
 }
 
-absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
+absl::StatusOr<clothing::BodyCorrespondence> BodyCorrespondenceFromProto(
     const v1::ClothingBasis& message) {
   const v1::BodyCorrespondence& c = message.correspondence();
   const int64_t v = message.vertex_count();
@@ -133,12 +134,12 @@ absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
   if (k < 1 || k > 64 || c.corners_size() != 3 * v * k || c.barycentric_size() != 3 * v * k ||
       c.body_mean_size() != 3 * u ||
       c.body_components_size() != 3 * u * n || c.guard_triangles_size() != 3 * g ||
-      c.smoothing_iterations() > core::kMaxSmoothingIterations) {
+      c.smoothing_iterations() > clothing::kMaxSmoothingIterations) {
     return absl::InvalidArgumentError(absl::StrCat(
         "clothing basis ", message.id(), " has an inconsistent body correspondence (", v,
         " garment vertices, ", u, " body vertices, ", n, " components)"));
   }
-  core::BodyCorrespondence result;
+  clothing::BodyCorrespondence result;
   result.offset = c.offset();
   result.anchors_per_vertex = static_cast<int>(k);
   result.body_vertices.assign(c.body_vertices().begin(), c.body_vertices().end());
@@ -164,16 +165,17 @@ absl::StatusOr<core::BodyCorrespondence> BodyCorrespondenceFromProto(
     // The smoothing runs over the garment's edges, which its faces give.
     ASSIGN_OR_RETURN(const v1::Mesh faces, FacesAtMean(message));
     ASSIGN_OR_RETURN(const core::Mesh mesh, MeshFromProto(faces));
-    RETURN_IF_ERROR(core::SetGarmentNeighbors(core::Triangulate(mesh.faces), result));
+    RETURN_IF_ERROR(clothing::SetGarmentNeighbors(core::Triangulate(mesh.faces), result));
   }
-  RETURN_IF_ERROR(core::ValidateBodyCorrespondence(result, v, static_cast<int>(n)));
+  RETURN_IF_ERROR(clothing::ValidateBodyCorrespondence(result, v, static_cast<int>(n)));
   return result;
 }
 
-absl::StatusOr<core::ClothingFitter> ClothingFitterFromProto(const v1::ClothingBasis& message) {
-  ASSIGN_OR_RETURN(core::ClothingModel model, ClothingModelFromProto(message));
-  ASSIGN_OR_RETURN(core::BodyCorrespondence correspondence, BodyCorrespondenceFromProto(message));
-  return core::ClothingFitter::Create(std::move(model), std::move(correspondence));
+absl::StatusOr<clothing::ClothingFitter> ClothingFitterFromProto(const v1::ClothingBasis& message) {
+  ASSIGN_OR_RETURN(clothing::ClothingModel model, ClothingModelFromProto(message));
+  ASSIGN_OR_RETURN(clothing::BodyCorrespondence correspondence,
+                   BodyCorrespondenceFromProto(message));
+  return clothing::ClothingFitter::Create(std::move(model), std::move(correspondence));
 }
 
 absl::StatusOr<core::GarmentMesh> GarmentMeshFromClothingBasis(const v1::ClothingBasis& message) {

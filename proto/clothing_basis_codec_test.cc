@@ -7,9 +7,9 @@
 namespace fitbase::proto {
 namespace {
 
-core::ClothingModel SmallModel() {
-  core::ClothingModel model;
-  model.method = core::ClothingMethod::kQuadratic;
+clothing::ClothingModel SmallModel() {
+  clothing::ClothingModel model;
+  model.method = clothing::ClothingMethod::kQuadratic;
   model.component_count = 2;
   model.basis = Eigen::MatrixXf::Random(6, 5);
   model.term_component = {0, 1, 0, 1};
@@ -17,8 +17,8 @@ core::ClothingModel SmallModel() {
   return model;
 }
 
-core::BodyCorrespondence SmallCorrespondence() {
-  core::BodyCorrespondence c;
+clothing::BodyCorrespondence SmallCorrespondence() {
+  clothing::BodyCorrespondence c;
   c.offset = 0.0025;
   c.anchors_per_vertex = 2;
   c.body_vertices = {3, 7, 9, 12};
@@ -32,26 +32,26 @@ core::BodyCorrespondence SmallCorrespondence() {
 }
 
 TEST(ClothingBasisCodecTest, RoundTripsModelAndCorrespondence) {
-  const core::ClothingModel original = SmallModel();
-  const core::BodyCorrespondence original_correspondence = SmallCorrespondence();
+  const clothing::ClothingModel original = SmallModel();
+  const clothing::BodyCorrespondence original_correspondence = SmallCorrespondence();
   v1::ClothingBasis message;
   ClothingModelToProto(original, &message);
   BodyCorrespondenceToProto(original_correspondence, message.mutable_correspondence());
   EXPECT_EQ(message.method(), "quadratic");
   EXPECT_EQ(message.vertex_count(), 2u);
-  const core::ClothingModel model = *ClothingModelFromProto(message);
+  const clothing::ClothingModel model = *ClothingModelFromProto(message);
   EXPECT_EQ(model.basis, original.basis);
   EXPECT_EQ(model.term_power, original.term_power);
-  const core::BodyCorrespondence c = *BodyCorrespondenceFromProto(message);
+  const clothing::BodyCorrespondence c = *BodyCorrespondenceFromProto(message);
   EXPECT_EQ(c.corners, original_correspondence.corners);
   EXPECT_EQ(c.barycentric, original_correspondence.barycentric);
   EXPECT_EQ(c.body_components, original_correspondence.body_components);
   EXPECT_EQ(c.body_vertices, original_correspondence.body_vertices);
 }
 
-core::ClothingModel SmallKernelModel() {
-  core::ClothingModel model;
-  model.method = core::ClothingMethod::kKernel;
+clothing::ClothingModel SmallKernelModel() {
+  clothing::ClothingModel model;
+  model.method = clothing::ClothingMethod::kKernel;
   model.component_count = 2;
   model.basis = Eigen::MatrixXf::Random(6, 6);  // Mean, 2 linear terms, 3 kernel outputs.
   model.term_component = {0, 1};
@@ -64,21 +64,21 @@ core::ClothingModel SmallKernelModel() {
 }
 
 TEST(ClothingBasisCodecTest, RoundTripsAKernelModelAndItsFit) {
-  const core::ClothingModel original = SmallKernelModel();
-  ASSERT_TRUE(core::ValidateClothingModel(original).ok());
+  const clothing::ClothingModel original = SmallKernelModel();
+  ASSERT_TRUE(clothing::ValidateClothingModel(original).ok());
   v1::ClothingBasis message;
   ClothingModelToProto(original, &message);
   EXPECT_EQ(message.method(), "kernel");
   EXPECT_EQ(message.kernel().output_count(), 3u);
-  const absl::StatusOr<core::ClothingModel> model = ClothingModelFromProto(message);
+  const absl::StatusOr<clothing::ClothingModel> model = ClothingModelFromProto(message);
   ASSERT_TRUE(model.ok()) << model.status();
   EXPECT_EQ(model->basis, original.basis);
   EXPECT_EQ(model->kernel.centers, original.kernel.centers);
   EXPECT_EQ(model->kernel.coefficients, original.kernel.coefficients);
   Eigen::VectorXf features, a, b;
   const Eigen::Vector2f weights(0.01f, -0.02f);
-  core::FitClothing(original, weights, features, a);
-  core::FitClothing(*model, weights, features, b);
+  clothing::FitClothing(original, weights, features, a);
+  clothing::FitClothing(*model, weights, features, b);
   EXPECT_EQ(a, b);
 
   v1::ClothingBasis short_outputs = message;
@@ -120,13 +120,13 @@ TEST(ClothingBasisCodecTest, RejectsInconsistentMessages) {
 
 // A 3-vertex garment (one triangle) whose clean-up has a guard and smooths.
 v1::ClothingBasis GuardedBasis() {
-  core::ClothingModel model;
-  model.method = core::ClothingMethod::kLinear;
+  clothing::ClothingModel model;
+  model.method = clothing::ClothingMethod::kLinear;
   model.component_count = 2;
   model.basis = Eigen::MatrixXf::Random(9, 3);
   model.term_component = {0, 1};
   model.term_power = {1, 1};
-  core::BodyCorrespondence c;
+  clothing::BodyCorrespondence c;
   c.offset = 0.0025;
   c.body_vertices = {3, 7, 9, 12};
   c.body_mean = Eigen::VectorXf::Random(12);
@@ -150,7 +150,7 @@ v1::ClothingBasis GuardedBasis() {
 
 TEST(ClothingBasisCodecTest, RoundTripsGuardsAndRebuildsTheNeighboursFromTheFaces) {
   const v1::ClothingBasis message = GuardedBasis();
-  const absl::StatusOr<core::BodyCorrespondence> c = BodyCorrespondenceFromProto(message);
+  const absl::StatusOr<clothing::BodyCorrespondence> c = BodyCorrespondenceFromProto(message);
   ASSERT_TRUE(c.ok()) << c.status();
   EXPECT_THAT(c->guard_body, ::testing::ElementsAre(3));
   EXPECT_EQ(c->guard_triangles, Eigen::RowVector3i(0, 2, 1));
@@ -168,7 +168,7 @@ TEST(ClothingBasisCodecTest, LoadsACorrespondenceWithoutGuards) {
   message.mutable_correspondence()->clear_guard_triangles();
   message.mutable_correspondence()->clear_smoothing_iterations();
   message.clear_faces();
-  const absl::StatusOr<core::BodyCorrespondence> c = BodyCorrespondenceFromProto(message);
+  const absl::StatusOr<clothing::BodyCorrespondence> c = BodyCorrespondenceFromProto(message);
   ASSERT_TRUE(c.ok()) << c.status();
   EXPECT_TRUE(c->guard_body.empty());
   EXPECT_EQ(c->guard_triangles.rows(), 0);

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "absl/status/status.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/garment_obj.h"
 #include "core/random.h"
 #include "core/test_support.h"
@@ -25,7 +25,7 @@ using ::fitbase::core::StatusIs;
 std::vector<float> MetersOf(const core::Positions& data_units) {
   std::vector<float> xyz(data_units.size());
   for (Eigen::Index i = 0; i < data_units.size(); ++i) {
-    xyz[i] = static_cast<float>(data_units.data()[i] * core::kMetersPerDataUnit);
+    xyz[i] = static_cast<float>(data_units.data()[i] * body::kMetersPerDataUnit);
   }
   return xyz;
 }
@@ -44,7 +44,7 @@ std::vector<float> Body() {
   auto base = core::ReadGarmentObj(core::TestDataDir() / "base.obj");
   EXPECT_TRUE(base.ok()) << base.status();
   if (!base.ok()) return {};
-  return MetersOf(base->mesh.positions.topRows(core::kBodyVertexCount));
+  return MetersOf(base->mesh.positions.topRows(body::kBodyVertexCount));
 }
 
 // `count` points uniform in a 1 m cube, in no spatial order.

@@ -110,18 +110,18 @@ absl::StatusOr<core::Positions> LengthAxesFromProto(const v1::Garment& garment) 
   return axes;
 }
 
-absl::StatusOr<std::vector<core::BodyRegion>> RegionsFromProto(const v1::Garment& garment) {
+absl::StatusOr<std::vector<body::BodyRegion>> RegionsFromProto(const v1::Garment& garment) {
   const int64_t n = garment.template_mesh().vertex_count();
   if (garment.vertex_regions_size() != n) {
     return absl::InvalidArgumentError(absl::StrCat("garment has ", garment.vertex_regions_size(),
                                                    " vertex regions for ", n, " vertices"));
   }
-  std::vector<core::BodyRegion> regions;
+  std::vector<body::BodyRegion> regions;
   for (uint32_t r : garment.vertex_regions()) {
-    if (r >= core::kBodyRegionCount) {
+    if (r >= body::kBodyRegionCount) {
       return absl::InvalidArgumentError(absl::StrCat("garment vertex region ", r, " is unknown"));
     }
-    regions.push_back(static_cast<core::BodyRegion>(r));
+    regions.push_back(static_cast<body::BodyRegion>(r));
   }
   return regions;
 }

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "core/body_skeleton.h"
+#include "body/body_skeleton.h"
 #include "core/garment_obj.h"
 #include "core/mhclo_binding.h"
 #include "fitbase/v1/garment.pb.h"
@@ -29,7 +29,7 @@ absl::StatusOr<core::GarmentMesh> GarmentTemplateFromProto(const v1::Garment& ga
 
 // Per-vertex length axes (V x 3) and regions, validated against the template's vertex count.
 absl::StatusOr<core::Positions> LengthAxesFromProto(const v1::Garment& garment);
-absl::StatusOr<std::vector<core::BodyRegion>> RegionsFromProto(const v1::Garment& garment);
+absl::StatusOr<std::vector<body::BodyRegion>> RegionsFromProto(const v1::Garment& garment);
 
 }  // namespace fitbase::proto
 

@@ -75,7 +75,7 @@ TEST(GarmentCodecTest, TemplateAxesAndRegions) {
   EXPECT_EQ(axes->col(1).sum(), 4.0);
   auto regions = RegionsFromProto(g);
   ASSERT_TRUE(regions.ok());
-  EXPECT_EQ((*regions)[3], core::BodyRegion::kFeet);
+  EXPECT_EQ((*regions)[3], body::BodyRegion::kFeet);
 }
 
 TEST(GarmentCodecTest, InconsistentGarmentsAreRejected) {

@@ -8,7 +8,7 @@
 #include "Eigen/Geometry"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/file_util.h"
 #include "core/obj_io.h"
 #include "core/test_support.h"
@@ -53,15 +53,15 @@ TEST(CliTest, AvatarMatchesTheBodyModel) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   auto written = core::ReadObj(dir / "a.obj");
   ASSERT_TRUE(written.ok()) << written.status();
-  auto model = core::BodyModel::Load(core::TestDataDir());
+  auto model = body::BodyModel::Load(core::TestDataDir());
   ASSERT_TRUE(model.ok());
-  core::BodyParams params;
+  body::BodyParams params;
   params.gender = 0.2;
   params.age_years = 40;
   params.modifiers["measure/measure-waist-circ-decr|incr"] = 0.5;
   auto expected = model->BuildBody(params);
   ASSERT_TRUE(expected.ok());
-  ASSERT_EQ(written->vertex_count(), core::kBodyVertexCount);
+  ASSERT_EQ(written->vertex_count(), body::kBodyVertexCount);
   EXPECT_LT((written->positions - expected->positions).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_EQ(written->faces, expected->faces);
 }
@@ -309,7 +309,7 @@ TEST_F(CliBasisTest, AvatarFromMeasurementsReproducesAMeasuredBody) {
   EXPECT_THAT(r.out, HasSubstr("reached"));
   auto avatar = core::ReadObj(dir / "a.obj");
   ASSERT_TRUE(avatar.ok()) << avatar.status();
-  EXPECT_EQ(avatar->vertex_count(), core::kBodyVertexCount);
+  EXPECT_EQ(avatar->vertex_count(), body::kBodyVertexCount);
   // The weights feed `fit --weights` and `basis project`'s consumers alike.
   v1::AvatarWeights weights;
   ASSERT_TRUE(proto::ParseJson(*core::ReadFileToString(dir / "w.json"), &weights).ok());

@@ -7,9 +7,9 @@
 
 #include "absl/strings/str_format.h"
 
+#include "body/body_measurements.h"
+#include "body/body_model.h"
 #include "cli/customer_client.h"
-#include "core/body_measurements.h"
-#include "core/body_model.h"
 #include "core/garment_obj.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
@@ -122,7 +122,7 @@ class FitServiceTest : public ::testing::Test {
     auto avatar = pipeline::ReadAvatarObj(SmallCatalogue() / "pop" /
                                           absl::StrFormat("avatar-%05d.obj", index));
     EXPECT_TRUE(avatar.ok());
-    auto measured = core::MeasureBody(*avatar);
+    auto measured = body::MeasureBody(*avatar);
     EXPECT_TRUE(measured.ok()) << measured.status();
     const v1::TypedMeasurements all = pipeline::MeasurementsToProto(*measured);
     const auto typed = [](double value) { return std::round(10 * value) / 10; };
@@ -220,7 +220,7 @@ TEST_F(FitServiceTest, SizeAdviceJudgesEveryBuiltSizeOnTheBodyOfTheWeights) {
   ASSERT_TRUE(stub_->ProjectAvatar(Call(TestKeys::kCustomer).get(), project, &projection).ok());
   auto body = proto::AvatarPositions(projection.body());
   ASSERT_TRUE(body.ok()) << body.status();
-  EXPECT_EQ(body->rows(), core::kBodyVertexCount);
+  EXPECT_EQ(body->rows(), body::kBodyVertexCount);
 
   v1::ShopGarments shop;
   ASSERT_TRUE(stub_->ListShopGarments(Call(TestKeys::kCustomer).get(), {}, &shop).ok());
@@ -233,7 +233,7 @@ TEST_F(FitServiceTest, SizeAdviceJudgesEveryBuiltSizeOnTheBodyOfTheWeights) {
   v1::BodyTopology topology;
   ASSERT_TRUE(
       stub_->GetBodyTopology(Call(TestKeys::kCustomer).get(), topology_request, &topology).ok());
-  EXPECT_EQ(topology.faces().vertex_count(), static_cast<uint32_t>(core::kBodyVertexCount));
+  EXPECT_EQ(topology.faces().vertex_count(), static_cast<uint32_t>(body::kBodyVertexCount));
   EXPECT_GT(topology.faces().face_sizes_size(), 0);
 
   v1::AdviseSizeRequest request;
@@ -444,7 +444,7 @@ TEST_F(FitServiceTest, AvatarFromMeasurementsMakesABodyThatMeasuresAsGiven) {
   ASSERT_TRUE(made.avatar().positions().has_draco());
   auto positions = proto::AvatarPositions(made.avatar());
   ASSERT_TRUE(positions.ok()) << positions.status();
-  EXPECT_EQ(positions->rows(), core::kBodyVertexCount);
+  EXPECT_EQ(positions->rows(), body::kBodyVertexCount);
 
   std::vector<std::string> names;
   for (const v1::MeasurementResidual& residual : made.residuals()) names.push_back(residual.name());
@@ -462,9 +462,9 @@ TEST_F(FitServiceTest, AvatarFromMeasurementsMakesABodyThatMeasuresAsGiven) {
   ASSERT_TRUE(faces.ok());
   core::Mesh body = *std::move(faces);
   body.positions = *positions;
-  auto measured = core::MeasureBody(body);
+  auto measured = body::MeasureBody(body);
   ASSERT_TRUE(measured.ok()) << measured.status();
-  EXPECT_NEAR(100 * (*measured)[static_cast<int>(core::Measurement::kStature)], stature.reached(),
+  EXPECT_NEAR(100 * (*measured)[static_cast<int>(body::Measurement::kStature)], stature.reached(),
               0.1);
 
   // Raw positions on request; the same request gives the same bytes.
@@ -494,7 +494,7 @@ TEST_F(FitServiceTest, MeasurementsNoBodyOfThePopulationHasAreFlaggedNotRefused)
   EXPECT_EQ(made.residuals_size(), 2);
   auto positions = proto::AvatarPositions(made.avatar());
   ASSERT_TRUE(positions.ok()) << positions.status();
-  EXPECT_EQ(positions->rows(), core::kBodyVertexCount);
+  EXPECT_EQ(positions->rows(), body::kBodyVertexCount);
 }
 
 TEST_F(FitServiceTest, BadMeasurementsAreInvalidArgumentNamingTheField) {

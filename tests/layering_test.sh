@@ -6,16 +6,18 @@ set -euo pipefail
 cd "${1:-$(dirname "$0")/..}"
 declare -A allowed=(
   [core]="core"
-  [proto]="proto core"
+  [body]="body core"
+  [clothing]="clothing body core"
+  [proto]="proto clothing body core"
   [storage]="storage core"
-  [workers]="workers proto core"
-  [pipeline]="pipeline workers proto core"
+  [workers]="workers proto clothing body core"
+  [pipeline]="pipeline workers proto clothing body core"
   [services/rpc]="services/rpc storage core"
-  [services/build]="services/build services/rpc pipeline workers storage proto core"
-  [services/fit]="services/fit services/rpc pipeline storage proto core"
-  [services/http]="services/http services/rpc pipeline proto core"
-  [cli]="cli services/build services/fit services/http services/rpc pipeline workers storage proto core"
-  [fuzz]="fuzz services/build services/fit services/http services/rpc pipeline workers storage proto core"
+  [services/build]="services/build services/rpc pipeline workers storage proto clothing body core"
+  [services/fit]="services/fit services/rpc pipeline storage proto clothing body core"
+  [services/http]="services/http services/rpc pipeline proto clothing body core"
+  [cli]="cli services/build services/fit services/http services/rpc pipeline workers storage proto clothing body core"
+  [fuzz]="fuzz services/build services/fit services/http services/rpc pipeline workers storage proto clothing body core"
 )
 # Generated protobuf headers live under proto/'s build folder as fitbase/v1/*.
 room_of_include() {

@@ -7,8 +7,8 @@
 
 #include "Eigen/Geometry"
 #include "absl/strings/str_cat.h"
-#include "core/body_measurements.h"
-#include "core/body_model.h"
+#include "body/body_measurements.h"
+#include "body/body_model.h"
 #include "core/dihedral_angle.h"
 
 namespace fitbase::workers {
@@ -153,10 +153,10 @@ Eigen::VectorXd PairLengths(const core::Positions& positions,
 
 absl::StatusOr<std::vector<int32_t>> WaistbandEdges(const ClothModel& model,
                                                     const core::Positions& mean_body) {
-  using core::BodyLandmarks;
-  if (mean_body.rows() != core::kBodyVertexCount) {
+  using body::BodyLandmarks;
+  if (mean_body.rows() != body::kBodyVertexCount) {
     return absl::InvalidArgumentError(absl::StrCat("the mean avatar has ", mean_body.rows(),
-                                                   " vertices, not ", core::kBodyVertexCount));
+                                                   " vertices, not ", body::kBodyVertexCount));
   }
   const double crotch = mean_body(BodyLandmarks::kCrotch, 1);
   const double underbust = mean_body(BodyLandmarks::kLeftUnderbust, 1);

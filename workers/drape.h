@@ -5,7 +5,7 @@
 
 #include "Eigen/Core"
 #include "absl/status/statusor.h"
-#include "core/body_skeleton.h"
+#include "body/body_skeleton.h"
 #include "core/mesh.h"
 #include "workers/cloth_model.h"
 #include "workers/cloth_solver.h"
@@ -31,7 +31,7 @@ struct DrapeInput {
   Eigen::VectorXd hinge_rest;  // Per model->hinges: the size's rest bending angles, rad.
   // Ascending indices into model->edges carrying a waistband's elastic (WaistbandEdges).
   std::vector<int32_t> waistband_edges;
-  std::vector<core::BodyRegion> regions;  // Per garment vertex, for the report (may be empty).
+  std::vector<body::BodyRegion> regions;  // Per garment vertex, for the report (may be empty).
   core::Positions mean_body;   // 13,380 x 3, m: the body the template sits on.
   core::Positions target_body; // Same topology, m.
   core::Triangles body_triangles;

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/status_macros.h"
 
 namespace fitbase::workers {
@@ -146,14 +146,14 @@ v1::DrapeTaskSpec DrapeTaskToSpec(const DrapeTask& task) {
 }
 
 absl::StatusOr<DrapeTask> DrapeTaskFromSpec(const v1::DrapeTaskSpec& spec) {
-  if (spec.body_size() != 3 * core::kBodyVertexCount) {
+  if (spec.body_size() != 3 * body::kBodyVertexCount) {
     return absl::InvalidArgumentError(absl::StrCat("task ", spec.key(), ": the body has ",
                                                    spec.body_size(), " coordinates; expected ",
-                                                   3 * core::kBodyVertexCount));
+                                                   3 * body::kBodyVertexCount));
   }
   const core::Positions body =
       Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
-          spec.body().data(), core::kBodyVertexCount, 3)
+          spec.body().data(), body::kBodyVertexCount, 3)
           .cast<double>();
   if (!body.allFinite()) {
     return absl::InvalidArgumentError(absl::StrCat("task ", spec.key(), ": non-finite body"));

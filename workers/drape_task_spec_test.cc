@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -15,7 +15,7 @@ class DrapeTaskSpecTest : public ::testing::Test {
  protected:
   DrapeTaskSpecTest() {
     garment_.set_id("garment-1");
-    body_ = core::Positions(core::kBodyVertexCount, 3);
+    body_ = core::Positions(body::kBodyVertexCount, 3);
     for (Eigen::Index i = 0; i < body_.size(); ++i) body_.data()[i] = std::sin(0.1 * i);
   }
   v1::Garment garment_;

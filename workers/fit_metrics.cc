@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "core/body_measurements.h"
+#include "body/body_measurements.h"
 
 namespace fitbase::workers {
 namespace {
@@ -24,7 +24,7 @@ SupportHeights MeasureSupports(const ClothModel& model,
                                const std::vector<int32_t>& waistband_edges,
                                const core::Positions& mean_body, const core::Positions& positions,
                                const core::Positions& body) {
-  using core::BodyLandmarks;
+  using body::BodyLandmarks;
   auto mean_height = [&](const std::vector<int32_t>& vertices) {
     double sum = 0;
     for (int32_t v : vertices) sum += positions(v, 1);
@@ -68,12 +68,12 @@ double Quantile(std::vector<double> values, double q) {
 FitMetrics MeasureFit(const core::Positions& positions,
                       const std::vector<std::array<int32_t, 2>>& edges,
                       const Eigen::VectorXd& edge_rest, const core::TriangleBvh& body,
-                      const std::vector<core::BodyRegion>& regions, double ease_search) {
+                      const std::vector<body::BodyRegion>& regions, double ease_search) {
   FitMetrics m;
   const Eigen::Index n = positions.rows();
   m.vertex_count = n;
   std::vector<double> ease(static_cast<size_t>(n));
-  std::array<std::vector<double>, core::kBodyRegionCount> by_region;
+  std::array<std::vector<double>, body::kBodyRegionCount> by_region;
   int64_t below_0 = 0, below_1 = 0;
   for (Eigen::Index v = 0; v < n; ++v) {
     const core::SurfacePoint hit = body.Closest(positions.row(v).transpose(), ease_search);
@@ -88,9 +88,9 @@ FitMetrics MeasureFit(const core::Positions& positions,
   m.ease_mean_mm = Mean(ease);
   m.ease_p50_mm = Quantile(ease, 0.5);
   m.ease_p95_mm = Quantile(ease, 0.95);
-  for (int r = 0; r < core::kBodyRegionCount; ++r) {
+  for (int r = 0; r < body::kBodyRegionCount; ++r) {
     if (by_region[r].empty()) continue;
-    m.region_ease.push_back({static_cast<core::BodyRegion>(r),
+    m.region_ease.push_back({static_cast<body::BodyRegion>(r),
                              static_cast<int64_t>(by_region[r].size()), Mean(by_region[r]),
                              Quantile(by_region[r], 0.95)});
   }

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "core/body_skeleton.h"
+#include "body/body_skeleton.h"
 #include "core/mesh.h"
 #include "core/triangle_bvh.h"
 #include "workers/cloth_model.h"
@@ -23,7 +23,7 @@ inline constexpr double kOverstretchStrain = 0.15;
 inline constexpr double kPenetrationDistance = 0.001;
 
 struct RegionEase {
-  core::BodyRegion region;
+  body::BodyRegion region;
   int64_t vertex_count = 0;
   double mean_mm = 0;
   double p95_mm = 0;
@@ -56,9 +56,9 @@ struct FitMetrics {
 FitMetrics MeasureFit(const core::Positions& positions,
                       const std::vector<std::array<int32_t, 2>>& edges,
                       const Eigen::VectorXd& edge_rest, const core::TriangleBvh& body,
-                      const std::vector<core::BodyRegion>& regions, double ease_search = 0.5);
+                      const std::vector<body::BodyRegion>& regions, double ease_search = 0.5);
 
-// Where a garment's supports sit on a body, by its landmarks (core::BodyLandmarks), m along
+// Where a garment's supports sit on a body, by its landmarks (body::BodyLandmarks), m along
 // +y; empty where the garment has no such opening.
 struct SupportHeights {
   std::optional<double> waistband_above_navel;  // Waistband openings' mean height (trousers).

@@ -22,8 +22,8 @@ TEST(FitMetricsTest, PenetrationEaseAndStrain) {
   Eigen::VectorXd rest(2);
   rest << 0.0055, 0.004;  // Strains 0 and 1.0 (0.008 long).
   const FitMetrics m = MeasureFit(p, edges, rest, body,
-                                  {core::BodyRegion::kTorso, core::BodyRegion::kTorso,
-                                   core::BodyRegion::kArms, core::BodyRegion::kArms});
+                                  {body::BodyRegion::kTorso, body::BodyRegion::kTorso,
+                                   body::BodyRegion::kArms, body::BodyRegion::kArms});
   EXPECT_DOUBLE_EQ(m.penetration_below_0mm, 0.25);
   EXPECT_DOUBLE_EQ(m.penetration_below_1mm, 0.5);
   EXPECT_NEAR(m.strain_mean, 0.5, 1e-9);
@@ -33,7 +33,7 @@ TEST(FitMetricsTest, PenetrationEaseAndStrain) {
   EXPECT_TRUE(m.overstretched);  // p99 of {0, 1} is 1.
   EXPECT_NEAR(m.ease_mean_mm, (-5 + 0.5 + 2 + 10) / 4.0, 0.05);
   ASSERT_EQ(m.region_ease.size(), 2u);
-  EXPECT_EQ(m.region_ease[1].region, core::BodyRegion::kArms);
+  EXPECT_EQ(m.region_ease[1].region, body::BodyRegion::kArms);
   EXPECT_NEAR(m.region_ease[1].mean_mm, 6.0, 0.05);
 }
 

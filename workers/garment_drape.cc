@@ -4,7 +4,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/mhclo_binding.h"
 #include "core/status_macros.h"
 #include "core/triangle_bvh.h"
@@ -21,7 +21,7 @@ constexpr double kMmPerMeter = 1000.0;
 struct PreparedGarment {
   core::GarmentMesh template_mesh;
   ClothModel model;
-  std::vector<core::BodyRegion> regions;
+  std::vector<body::BodyRegion> regions;
   core::Positions mean_full;  // 19,158 x 3.
   core::Positions mean_body;  // 13,380 x 3.
   core::Triangles body_triangles;
@@ -37,20 +37,20 @@ absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string
   ASSIGN_OR_RETURN(const v1::GarmentSize* garment_size, FindGarmentSize(garment, size));
   ASSIGN_OR_RETURN(g.template_mesh, proto::GarmentTemplateFromProto(garment));
   ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(garment.mean_avatar()));
-  if (mean.vertex_count() != core::kFullVertexCount) {
+  if (mean.vertex_count() != body::kFullVertexCount) {
     return absl::InvalidArgumentError(absl::StrCat("garment's mean avatar has ",
                                                    mean.vertex_count(), " vertices, not ",
-                                                   core::kFullVertexCount));
+                                                   body::kFullVertexCount));
   }
-  if (target_body.rows() != core::kBodyVertexCount) {
+  if (target_body.rows() != body::kBodyVertexCount) {
     return absl::InvalidArgumentError(absl::StrCat("avatar has ", target_body.rows(),
-                                                   " vertices; a ", core::kBodyTopologyId,
-                                                   " avatar has ", core::kBodyVertexCount));
+                                                   " vertices; a ", body::kBodyTopologyId,
+                                                   " avatar has ", body::kBodyVertexCount));
   }
   if (!target_body.allFinite()) return absl::InvalidArgumentError("avatar has non-finite positions");
   g.mean_full = std::move(mean.positions);
-  g.mean_body = g.mean_full.topRows(core::kBodyVertexCount);
-  g.body_triangles = core::Triangulate(core::BodyFacesOf(mean.faces));
+  g.mean_body = g.mean_full.topRows(body::kBodyVertexCount);
+  g.body_triangles = core::Triangulate(body::BodyFacesOf(mean.faces));
   const core::Positions& rest = g.template_mesh.mesh.positions;
   ASSIGN_OR_RETURN(g.model, BuildClothModel(rest, g.template_mesh.mesh.faces, areal_density));
   ASSIGN_OR_RETURN(g.regions, proto::RegionsFromProto(garment));
@@ -95,7 +95,7 @@ v1::DrapeReport ReportOf(const v1::Garment& garment, absl::string_view size,
   r.set_ease_p95_mm(m.ease_p95_mm);
   for (const RegionEase& e : m.region_ease) {
     v1::RegionEase* region = r.add_region_ease();
-    region->set_region(std::string(core::BodyRegionName(e.region)));
+    region->set_region(std::string(body::BodyRegionName(e.region)));
     region->set_vertex_count(static_cast<uint32_t>(e.vertex_count));
     region->set_ease_mean_mm(e.mean_mm);
     region->set_ease_p95_mm(e.p95_mm);
@@ -168,13 +168,13 @@ absl::StatusOr<GarmentFit> GeometricFit(const v1::Garment& garment, absl::string
                    Prepare(garment, size, target_body, ClothSettings{}.areal_density));
   ASSIGN_OR_RETURN(core::MhcloBinding binding,
                    proto::MhcloBindingFromProto(garment.binding(), g.template_mesh.mesh.vertex_count(),
-                                                core::kFullVertexCount));
+                                                body::kFullVertexCount));
   // Helper and joint vertices follow the body surface nearest them on the mean avatar.
   ASSIGN_OR_RETURN(core::TriangleBvh mean_bvh, core::TriangleBvh::Build(g.mean_body, g.body_triangles));
   core::Positions full = g.mean_full;
-  full.topRows(core::kBodyVertexCount) = target_body;
+  full.topRows(body::kBodyVertexCount) = target_body;
   const core::Positions displacement = target_body - g.mean_body;
-  for (Eigen::Index v = core::kBodyVertexCount; v < full.rows(); ++v) {
+  for (Eigen::Index v = body::kBodyVertexCount; v < full.rows(); ++v) {
     const core::SurfacePoint hit = mean_bvh.Closest(g.mean_full.row(v).transpose(), 10.0);
     const auto tri = g.body_triangles.row(hit.triangle);
     for (int k = 0; k < 3; ++k) full.row(v) += hit.barycentric(k) * displacement.row(tri(k));

@@ -1,6 +1,6 @@
 #include "workers/garment_template.h"
 
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "core/status_macros.h"
 #include "core/triangle_bvh.h"
 #include "workers/cloth_model.h"
@@ -25,7 +25,7 @@ absl::StatusOr<core::Positions> FitTemplateToBody(const core::Positions& placed,
   // The relaxation runs with friction and no skin ties, so trousers need their waistband to
   // stay up; a body without the avatar's landmarks (a test shape) has none.
   std::vector<int32_t> waistband;
-  if (body.rows() == core::kBodyVertexCount) {
+  if (body.rows() == body::kBodyVertexCount) {
     ASSIGN_OR_RETURN(waistband, WaistbandEdges(model, body));
   }
   ClothSolver pusher(model, placed, PairLengths(placed, model.edges),

@@ -86,7 +86,7 @@ absl::StatusOr<std::unique_ptr<const BuildPlan>> PlanBuild(const storage::AssetS
                                             plan->request.avatar_basis_id(), " does not parse"));
   }
   for (const std::string& method : plan->request.methods()) {
-    ASSIGN_OR_RETURN(core::ClothingMethod parsed, core::ParseClothingMethod(method));
+    ASSIGN_OR_RETURN(clothing::ClothingMethod parsed, clothing::ParseClothingMethod(method));
     plan->methods.push_back(parsed);
   }
   plan->sizes.reserve(static_cast<size_t>(plan->request.sizes_size()));
@@ -119,7 +119,7 @@ absl::StatusOr<std::vector<v1::ClothingBasis>> AssembleBuild(const storage::Asse
             absl::StrCat("stored drape result ", size.plan.tasks[i].key, " does not parse"));
       }
     }
-    for (core::ClothingMethod method : plan.methods) {
+    for (clothing::ClothingMethod method : plan.methods) {
       ASSIGN_OR_RETURN(v1::ClothingBasis basis,
                        pipeline::AssembleClothingBasis(size.spec, size.plan, method, results));
       bases.push_back(std::move(basis));

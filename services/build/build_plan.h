@@ -7,7 +7,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
-#include "core/clothing_model.h"
+#include "clothing/clothing_model.h"
 #include "fitbase/v1/avatar_basis.pb.h"
 #include "fitbase/v1/build.pb.h"
 #include "fitbase/v1/clothing_basis.pb.h"
@@ -30,7 +30,7 @@ struct BuildPlan {
   std::string tenant;
   v1::Garment garment;
   v1::AvatarBasis avatar_basis;
-  std::vector<core::ClothingMethod> methods;
+  std::vector<clothing::ClothingMethod> methods;
   std::vector<Size> sizes;  // In request.sizes order.
 };
 

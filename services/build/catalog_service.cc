@@ -4,7 +4,7 @@
 
 #include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
-#include "core/population_sampler.h"
+#include "body/population_sampler.h"
 #include "core/status_macros.h"
 #include "pipeline/avatar_basis_builder.h"
 #include "pipeline/garment_importer.h"
@@ -42,7 +42,7 @@ absl::StatusOr<v1::AvatarBasis> ReadAvatarBasis(const storage::AssetStore& store
 }
 
 absl::StatusOr<v1::UploadGarmentResponse> Upload(storage::AssetStore& store,
-                                                 const core::BodyModel& model,
+                                                 const body::BodyModel& model,
                                                  absl::string_view tenant,
                                                  const v1::UploadGarmentRequest& request) {
   if (request.avatar_basis_id().empty()) {
@@ -71,7 +71,7 @@ absl::StatusOr<v1::UploadGarmentResponse> Upload(storage::AssetStore& store,
   return response;
 }
 
-absl::StatusOr<v1::AvatarBasis> BasisOfRequest(const core::BodyModel& model,
+absl::StatusOr<v1::AvatarBasis> BasisOfRequest(const body::BodyModel& model,
                                                const v1::PublishAvatarBasisRequest& request) {
   if (request.has_basis()) {
     // Validated as a fit would read it: shapes, orthonormal sizes, finite values.
@@ -81,7 +81,7 @@ absl::StatusOr<v1::AvatarBasis> BasisOfRequest(const core::BodyModel& model,
   }
   if (!request.has_spec()) return absl::InvalidArgumentError("give a population spec or a basis");
   const v1::PopulationSpec& spec = request.spec();
-  ASSIGN_OR_RETURN(core::PopulationPreset preset, core::ParsePopulationPreset(spec.preset()));
+  ASSIGN_OR_RETURN(body::PopulationPreset preset, body::ParsePopulationPreset(spec.preset()));
   if (spec.count() > kMaxPopulation) {
     return absl::ResourceExhaustedError(
         absl::StrCat("count ", spec.count(), " is above the limit of ", kMaxPopulation));

@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "fitbase/v1/catalog.grpc.pb.h"
 #include "services/rpc/api_keys.h"
 #include "storage/asset_store.h"
@@ -17,7 +17,7 @@ class CatalogService final : public v1::Catalog::Service {
  public:
   // `model`: the MakeHuman body model that garments are bound to and populations sampled from.
   // `checkpoint_root`: where CreateCheckpoint writes (on the store's file system).
-  CatalogService(storage::AssetStore* store, const core::BodyModel* model,
+  CatalogService(storage::AssetStore* store, const body::BodyModel* model,
                  const rpc::ApiKeyRegistry* keys, std::filesystem::path checkpoint_root)
       : store_(store), model_(model), keys_(keys), checkpoint_root_(std::move(checkpoint_root)) {}
 
@@ -38,7 +38,7 @@ class CatalogService final : public v1::Catalog::Service {
 
  private:
   storage::AssetStore* store_;
-  const core::BodyModel* model_;
+  const body::BodyModel* model_;
   const rpc::ApiKeyRegistry* keys_;
   const std::filesystem::path checkpoint_root_;
 };

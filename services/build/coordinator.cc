@@ -9,7 +9,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/strip.h"
-#include "core/clothing_model.h"
+#include "clothing/clothing_model.h"
 #include "core/log_line.h"
 #include "core/status_macros.h"
 #include "proto/message_file.h"

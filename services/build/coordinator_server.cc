@@ -20,8 +20,8 @@ absl::StatusOr<std::unique_ptr<CoordinatorServer>> CoordinatorServer::Start(
                                                     .max_value_bytes = size_t{256} << 20,
                                                     .blob_files = o.blob_files,
                                                     .min_blob_bytes = 4096}));
-  ASSIGN_OR_RETURN(core::BodyModel model, core::BodyModel::Load(o.data_dir));
-  server->model_ = std::make_unique<core::BodyModel>(std::move(model));
+  ASSIGN_OR_RETURN(body::BodyModel model, body::BodyModel::Load(o.data_dir));
+  server->model_ = std::make_unique<body::BodyModel>(std::move(model));
   server->coordinator_service_ = std::make_unique<CoordinatorService>(&server->slot_, &o.keys);
   server->worker_queue_service_ = std::make_unique<WorkerQueueService>(&server->slot_, &o.keys);
   // Beside the store, never inside it: "store/" names the same folder as "store".

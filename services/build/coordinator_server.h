@@ -7,7 +7,7 @@
 
 #include "absl/status/statusor.h"
 #include "absl/time/time.h"
-#include "core/body_model.h"
+#include "body/body_model.h"
 #include "grpcpp/grpcpp.h"
 #include "services/build/catalog_service.h"
 #include "services/build/coordinator.h"
@@ -56,7 +56,7 @@ class CoordinatorServer {
 
   CoordinatorServerOptions options_;
   std::unique_ptr<storage::AssetStore> store_;
-  std::unique_ptr<core::BodyModel> model_;
+  std::unique_ptr<body::BodyModel> model_;
   CoordinatorSlot slot_;
   std::unique_ptr<CoordinatorService> coordinator_service_;
   std::unique_ptr<WorkerQueueService> worker_queue_service_;

@@ -84,7 +84,7 @@ absl::StatusOr<std::shared_ptr<const ServedClothing>> FitCatalog::Clothing(
     return absl::DataLossError(
         absl::StrCat("stored clothing basis ", record.content_id, " does not parse"));
   }
-  ASSIGN_OR_RETURN(core::ClothingFitter fitter, proto::ClothingFitterFromProto(basis));
+  ASSIGN_OR_RETURN(clothing::ClothingFitter fitter, proto::ClothingFitterFromProto(basis));
   Eigen::VectorXd reach = Eigen::VectorXd::Zero(fitter.model().component_count);
   for (const v1::ClothingExample& example : basis.provenance().examples()) {
     for (int k = 0; k < std::min<int>(example.weights_size(), reach.size()); ++k) {

@@ -9,7 +9,7 @@
 #include "absl/status/statusor.h"
 #include "absl/strings/string_view.h"
 #include "absl/time/time.h"
-#include "core/clothing_fitter.h"
+#include "clothing/clothing_fitter.h"
 #include "fitbase/v1/fit_service.pb.h"
 #include "pipeline/avatar_projection.h"
 #include "pipeline/size_advisor.h"
@@ -21,7 +21,7 @@ namespace fitbase::fit {
 
 // A clothing basis ready to fit: the published version it was loaded from.
 struct ServedClothing {
-  core::ClothingFitter fitter;
+  clothing::ClothingFitter fitter;
   uint64_t version = 0;
   std::string content_id;
   // Per component, the largest |weight| of the example drapes the basis was built from (m):

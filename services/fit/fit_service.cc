@@ -10,10 +10,10 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 #include "absl/time/clock.h"
-#include "core/body_measurements.h"
-#include "core/clothing_model.h"
+#include "body/body_measurements.h"
+#include "clothing/clothing_model.h"
+#include "clothing/size_advice.h"
 #include "core/pca_basis.h"
-#include "core/size_advice.h"
 #include "proto/mesh_codec.h"
 #include "core/status_macros.h"
 #include "proto/avatar_codec.h"
@@ -78,7 +78,7 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
                                         absl::string_view method_name, bool cleanup,
                                         Eigen::VectorXf& positions) {
   SizeFitted out;
-  if (!method_name.empty()) RETURN_IF_ERROR(core::ParseClothingMethod(method_name).status());
+  if (!method_name.empty()) RETURN_IF_ERROR(clothing::ParseClothingMethod(method_name).status());
   const auto& sizes = garment.topology.sizes();
   if (std::find(sizes.begin(), sizes.end(), size) == sizes.end()) {
     return absl::NotFoundError(absl::StrCat("garment ", garment_id, " has no size '", size,
@@ -106,7 +106,7 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
                    CheckedWeights(weights, out.clothing->fitter.model().component_count,
                                   weights.basis_id()));
   const Eigen::VectorXf w = checked.cast<float>();
-  thread_local core::FitScratch scratch;
+  thread_local clothing::FitScratch scratch;
   const absl::Time start = absl::Now();
   ASSIGN_OR_RETURN(out.pushed, out.clothing->fitter.Fit(w, cleanup, scratch, positions));
   out.compute = absl::Now() - start;
@@ -386,9 +386,9 @@ grpc::ServerUnaryReactor* FitService::AvatarFromMeasurements(
                          /*draco=*/request->encoding() != v1::POSITIONS_ENCODING_RAW));
     for (const auto& [measurement, wanted, reached] : made.residuals) {
       v1::MeasurementResidual* residual = response->add_residuals();
-      residual->set_name(std::string(core::MeasurementName(measurement)));
-      residual->set_given(core::InTypedUnit(measurement, wanted));
-      residual->set_reached(core::InTypedUnit(measurement, reached));
+      residual->set_name(std::string(body::MeasurementName(measurement)));
+      residual->set_given(body::InTypedUnit(measurement, wanted));
+      residual->set_reached(body::InTypedUnit(measurement, reached));
       residual->set_within_allowance(std::abs(reached - wanted) <=
                                      pipeline::MeasurementAllowance(measurement));
     }
@@ -514,7 +514,7 @@ grpc::ServerUnaryReactor* FitService::ListShopGarments(grpc::CallbackServerConte
       summary.set_garment_id(id);
       summary.set_name(garment->topology.name());
       if (garment->advice != nullptr) {
-        summary.set_garment_type(std::string(core::GarmentTypeName(garment->advice->type)));
+        summary.set_garment_type(std::string(clothing::GarmentTypeName(garment->advice->type)));
       }
       for (const auto& [population, basis_id] : populations) {
         if (basis_id == garment->avatar_basis_id) summary.set_population(population);

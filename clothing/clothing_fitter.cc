@@ -1,0 +1,22 @@
+#include "clothing/clothing_fitter.h"
+
+#include "core/status_macros.h"
+
+namespace fitbase::clothing {
+
+absl::StatusOr<ClothingFitter> ClothingFitter::Create(ClothingModel model,
+                                                      BodyCorrespondence correspondence) {
+  RETURN_IF_ERROR(ValidateClothingModel(model));
+  RETURN_IF_ERROR(ValidateBodyCorrespondence(correspondence, model.vertex_count(),
+                                             model.component_count));
+  return ClothingFitter(std::move(model), std::move(correspondence));
+}
+
+absl::StatusOr<int64_t> ClothingFitter::Fit(const Eigen::VectorXf& weights, bool cleanup,
+                                            FitScratch& scratch, Eigen::VectorXf& out) const {
+  RETURN_IF_ERROR(CheckFitWeights(model_, weights));
+  FitClothing(model_, weights, scratch.features, out);
+  return cleanup ? PushOutOfBody(correspondence_, weights, scratch.cleanup, out.data()) : 0;
+}
+
+}  // namespace fitbase::clothing

@@ -1,0 +1,70 @@
+#include "clothing/clothing_fitter.h"
+
+#include "core/test_support.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+
+namespace fitbase::clothing {
+namespace {
+
+using core::StatusIs;
+
+// One garment vertex 1 mm above the plane y = 0 of a single body triangle; component 0 lifts
+// the body, component 1 moves the garment vertex along y.
+struct OneVertex {
+  ClothingModel model;
+  BodyCorrespondence correspondence;
+};
+
+OneVertex MakeOneVertex() {
+  OneVertex s;
+  s.model.method = ClothingMethod::kLinear;
+  s.model.component_count = 2;
+  s.model.basis = Eigen::MatrixXf::Zero(3, 2);
+  s.model.basis.col(0) << 0.2f, 0.001f, 0.2f;
+  s.model.basis(1, 1) = 1;
+  s.model.term_component = {1};
+  s.model.term_power = {1};
+  s.correspondence.offset = 0.0025;
+  s.correspondence.body_vertices = {0, 1, 2};
+  s.correspondence.body_mean.resize(9);
+  s.correspondence.body_mean << 0, 0, 0, 0, 0, 1, 1, 0, 0;  // Normal +y.
+  s.correspondence.body_components = Eigen::MatrixXf::Zero(9, 2);
+  for (int i = 0; i < 3; ++i) s.correspondence.body_components(3 * i + 1, 0) = 1;
+  s.correspondence.corners.resize(1, 3);
+  s.correspondence.corners << 0, 1, 2;
+  s.correspondence.barycentric.resize(1, 3);
+  s.correspondence.barycentric << 0.6f, 0.2f, 0.2f;
+  return s;
+}
+
+TEST(ClothingFitterTest, FitsThenCleansUp) {
+  OneVertex s = MakeOneVertex();
+  const ClothingFitter fitter = *ClothingFitter::Create(s.model, s.correspondence);
+  FitScratch scratch;
+  Eigen::VectorXf out;
+  const Eigen::VectorXf weights = Eigen::Vector2f(0.0f, 0.01f);  // Garment up by 1 cm.
+  EXPECT_EQ(*fitter.Fit(weights, true, scratch, out), 0);
+  EXPECT_NEAR(out(1), 0.011f, 1e-7);
+  const Eigen::VectorXf lifted = Eigen::Vector2f(0.05f, 0.0f);  // Body up by 5 cm.
+  EXPECT_EQ(*fitter.Fit(lifted, false, scratch, out), 0);
+  EXPECT_NEAR(out(1), 0.001f, 1e-7);
+  EXPECT_EQ(*fitter.Fit(lifted, true, scratch, out), 1);
+  EXPECT_NEAR(out(1), 0.0525f, 1e-6);
+}
+
+TEST(ClothingFitterTest, RejectsMismatchedPartsAndWeights) {
+  OneVertex s = MakeOneVertex();
+  s.correspondence.body_components = Eigen::MatrixXf::Zero(9, 3);
+  EXPECT_THAT(ClothingFitter::Create(s.model, s.correspondence),
+              StatusIs(absl::StatusCode::kInvalidArgument, "expected 2"));
+  s = MakeOneVertex();
+  const ClothingFitter fitter = *ClothingFitter::Create(s.model, s.correspondence);
+  FitScratch scratch;
+  Eigen::VectorXf out;
+  EXPECT_THAT(fitter.Fit(Eigen::VectorXf::Zero(5), true, scratch, out),
+              StatusIs(absl::StatusCode::kInvalidArgument, "got 5 avatar weights"));
+}
+
+}  // namespace
+}  // namespace fitbase::clothing

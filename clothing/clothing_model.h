@@ -1,0 +1,146 @@
+#ifndef FITBASE_CLOTHING_CLOTHING_MODEL_H_
+#define FITBASE_CLOTHING_CLOTHING_MODEL_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "Eigen/Core"
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
+
+namespace fitbase::clothing {
+
+// How a garment's fit follows the avatar weights (Gillies, Ballin & Csaji 2004, and two
+// finite-difference models of the drape around the mean avatar).
+enum class ClothingMethod {
+  kPaper,      // The published method: clothing mean and normalized clothing components.
+  kLinear,     // g0 + sum_k w_k (g_k+ - g_k-) / (2 s sigma_k).
+  kQuadratic,  // linear + sum_k w_k^2 (g_k+ + g_k- - 2 g0) / (2 s^2 sigma_k^2).
+  kKernel,     // linear + a Gaussian-kernel correction learned from drapes of sampled bodies.
+};
+
+absl::StatusOr<ClothingMethod> ParseClothingMethod(absl::string_view name);
+std::string ClothingMethodName(ClothingMethod method);
+
+// The example avatars of a clothing basis, in avatar-basis weights (m): index 0 is the mean
+// avatar, 1..N are mu + s sigma_k phi_k and N+1..2N are mu - s sigma_k phi_k (k = index - 1
+// and index - N - 1). Every method draws on these 2N + 1; `paper` uses the N `+` ones.
+struct ExampleDesign {
+  double scale = 1.0;        // s.
+  Eigen::VectorXd sigmas;    // N, sigma_k = sqrt(variance_k), m.
+  int component_count() const { return static_cast<int>(sigmas.size()); }
+  int example_count() const { return 2 * component_count() + 1; }
+  Eigen::VectorXd Weights(int example) const;  // N.
+  std::string Label(int example) const;        // "mean", "+1", "-1", ... (components from 1).
+};
+
+// ExampleDesign for sigmas > 0 (finite) and scale > 0 (finite); InvalidArgument otherwise.
+absl::StatusOr<ExampleDesign> MakeExampleDesign(const Eigen::VectorXd& sigmas, double scale);
+
+// The non-linear part of a `kernel` model: Gaussian-kernel ridge regression of what the linear
+// model misses, over drapes of bodies sampled from the population. Its C outputs weight C
+// directions of the garment (the leading principal components of those misses):
+//   c(w) = coefficients * k(z),  k_j(z) = exp(-|z - centers_j|^2 / (2 l^2)),  z = w .* input_scale.
+// Far from every training body c falls to 0 and the linear model is left as it is.
+struct KernelCorrection {
+  float length_scale = 1.0f;     // l, in the unit of z.
+  Eigen::VectorXf input_scale;   // N.
+  Eigen::MatrixXf centers;       // N x M: the training bodies' z.
+  Eigen::MatrixXf coefficients;  // C x M.
+  int64_t center_count() const { return centers.cols(); }
+  int64_t output_count() const { return coefficients.rows(); }
+};
+
+// g(w) = mean + terms * f(w) + kernel_outputs * c(w), f_t(w) = w[term_component[t]] ^
+// term_power[t], c(w) as in KernelCorrection (C = 0 but for `kernel`).
+// Flattened garments: D = 3V floats, xyz interleaved, meters. `basis` is D x (1 + T + C),
+// column-major: column 0 is the mean, column 1 + t is term t and the last C are the kernel's
+// output directions, each one contiguous D-vector. A fit is then one matrix-vector product
+// with (1, f(w), c(w)) and a batch of customers one matrix product, each result written once
+// (bench/fit_bench measures this layout fastest).
+struct ClothingModel {
+  ClothingMethod method = ClothingMethod::kLinear;
+  int component_count = 0;  // N: the length of the weight vectors the fit takes.
+  Eigen::MatrixXf basis;    // D x (1 + T + C).
+  std::vector<int32_t> term_component;  // T, in [0, N).
+  std::vector<int32_t> term_power;      // T, 1 or 2.
+  KernelCorrection kernel;              // Empty (C = 0) but for `kernel`.
+  auto mean() const { return basis.col(0); }
+  auto terms() const { return basis.middleCols(1, term_count()); }
+  auto kernel_outputs() const { return basis.rightCols(kernel.output_count()); }
+  int64_t term_count() const { return static_cast<int64_t>(term_component.size()); }
+  int64_t vertex_count() const { return basis.rows() / 3; }
+};
+
+// drapes: D x (2N + 1), the example drapes in ExampleDesign order, meters, all finite.
+// InvalidArgument for a shape that does not match the design or non-finite values.
+absl::StatusOr<ClothingModel> BuildClothingModel(ClothingMethod method,
+                                                 const ExampleDesign& design,
+                                                 const Eigen::MatrixXd& drapes);
+
+// Drapes of bodies sampled from the population, the training set of the kernel correction.
+struct SampledDrapes {
+  Eigen::MatrixXd weights;  // N x M, the sampled bodies' avatar weights, m.
+  Eigen::MatrixXd drapes;   // D x M, meters.
+};
+
+struct KernelBuildOptions {
+  // The correction's outputs: the fewest principal components of the linear model's misses
+  // that keep this share of their energy, at most max_outputs (each costs one more column in
+  // every fit).
+  double output_energy = 0.999;
+  int max_outputs = 32;
+};
+
+// How the correction was chosen, for the clothing basis's provenance and the eval report.
+struct KernelBuildReport {
+  std::string input_scaling;      // "sigma" (z_k = w_k / sigma_k) or "response" (below).
+  double length_scale = 0;        // l, in the unit of z.
+  double ridge = 0;
+  int outputs = 0;                // C.
+  double kept_energy = 0;         // Of the misses, by the C outputs.
+  double linear_rms_mm = 0;       // RMS per vertex of the linear model's misses on the set.
+  double loo_rms_mm = 0;          // The same after the correction, each body left out in turn.
+};
+
+// The relevance search fits one more scale per component to the training bodies' leave-one-out
+// error, which with few bodies it lowers by fitting their noise: with 61 bodies on 18
+// components it raised female_elegantsuit01's held-out error from 8.5 to 9.3 mm, with 437 it
+// lowered both garments measured (4.15 to 3.92 and 4.44 to 4.29 mm). Below this many training
+// bodies per component the kernel keeps one length scale.
+inline constexpr int kRelevanceBodiesPerComponent = 10;
+
+// `kernel`: the linear model of the axis examples (drapes as in BuildClothingModel), plus a
+// correction fitted to its misses on the axis examples and `samples` (N x M weights, D x M
+// drapes, M >= 1). The inputs are scaled two ways and the leave-one-out error picks one:
+// "sigma" (z_k = w_k / sigma_k) and "response" (z_k = w_k |linear term_k| / sqrt(V): the RMS
+// per-vertex move the linear model gives w_k, so the components this garment follows count
+// most); from it, with at least kRelevanceBodiesPerComponent bodies per component, a relevance
+// search (FitKernelRidgeRelevance) gives each component its own scale, "relevance", where that
+// lowers the leave-one-out error. InvalidArgument for mismatched shapes or non-finite values.
+absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& design,
+                                                       const Eigen::MatrixXd& drapes,
+                                                       const SampledDrapes& samples,
+                                                       const KernelBuildOptions& options,
+                                                       KernelBuildReport* report);
+
+// Checks a model read from elsewhere: sizes agree, indices and powers in range, all finite.
+absl::Status ValidateClothingModel(const ClothingModel& model);
+
+// weights must have model.component_count finite entries (InvalidArgument otherwise).
+absl::Status CheckFitWeights(const ClothingModel& model, const Eigen::VectorXf& weights);
+
+// One customer: out (D) = g(weights). `features` is scratch of 1 + T + C floats. No allocation
+// once `out` and `features` have their sizes; the weights are assumed checked.
+void FitClothing(const ClothingModel& model, const Eigen::VectorXf& weights,
+                 Eigen::VectorXf& features, Eigen::VectorXf& out);
+
+// Many customers as one matrix product: weights N x B, out D x B.
+void FitClothingBatch(const ClothingModel& model, const Eigen::MatrixXf& weights,
+                      Eigen::MatrixXf& out);
+
+}  // namespace fitbase::clothing
+
+#endif  // FITBASE_CLOTHING_CLOTHING_MODEL_H_
