@@ -5,12 +5,24 @@
 #include <mutex>
 #include <variant>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 #include "Eigen/CholmodSupport"
 #include "Eigen/SparseCholesky"
+
+// Debian builds CHOLMOD with OpenMP: its supernodal factorisation opens a parallel region per
+// supernode and per update it assembles, about 4,000 per factorisation here, most of them
+// with a false `if` clause. libgomp ends every region, even one it runs on a single thread,
+// with a barrier wake-up, a futex system call: a 2.2k-vertex drape made 1.19 million of them,
+// 30% of its time on this virtual machine (6.9 s with them, 4.9 s without, the same bytes).
+// A drape is one core's work and several run side by side, so this definition, which the
+// dynamic linker finds in the executable before libgomp's, runs every region of the process
+// on its calling thread: the code in it sees one thread (omp_get_num_threads() is 1 outside
+// a team), which is how CHOLMOD's regions partition their loops. CHOLMOD calls no other
+// entry point that starts threads (nm -D libcholmod.so.3: GOMP_parallel, omp_get_num_threads,
+// omp_get_thread_num), and nothing of ours uses OpenMP.
+extern "C" void GOMP_parallel(void (*body)(void*), void* data, unsigned /*num_threads*/,
+                              unsigned /*flags*/) {
+  body(data);
+}
 
 namespace fitbase::workers {
 
@@ -61,15 +73,6 @@ void SparseCholesky::AnalyzePattern(const SparseMatrix& pattern) {
 }
 
 bool SparseCholesky::Factorize(const SparseMatrix& matrix) {
-#ifdef _OPENMP
-  // CHOLMOD's supernodal factorisation copies its larger blocks in OpenMP regions of four
-  // threads (a compile-time count that OMP_NUM_THREADS does not override). A drape is one
-  // core's work, several run side by side, and on a busy machine the threads' wake-ups cost
-  // far more than the copies: a 2.2k-vertex drape took 13.7 s with them and 4.9 s without,
-  // same bytes. No active level makes every region run on the calling thread; the setting
-  // belongs to this thread (OpenMP 5), hence here, before each factorisation.
-  omp_set_max_active_levels(0);
-#endif
   return std::visit(
       [&](auto& s) {
         s.factorize(matrix);
