@@ -165,6 +165,8 @@ absl::StatusOr<TriangleBvh> TriangleBvh::Build(const Positions& positions,
                    positions.row(triangles(t, 2)).transpose();
   }
   bvh.root_ = bvh.BuildSubtree(0, count, centroids);
+  bvh.slot_of_.resize(count);
+  for (int32_t slot = 0; slot < count; ++slot) bvh.slot_of_[bvh.order_[slot]] = slot;
   bvh.corners_.resize(count);
   bvh.BuildAdjacency(positions.rows());
   bvh.Refit(positions);
@@ -318,7 +320,8 @@ Eigen::Vector3d TriangleBvh::VertexNormal(int32_t t, int k) const {
   return sum.normalized();
 }
 
-SurfacePoint TriangleBvh::Closest(const Eigen::Vector3d& query, double max_distance) const {
+SurfacePoint TriangleBvh::Closest(const Eigen::Vector3d& query, double max_distance,
+                                  int32_t hint) const {
   SurfacePoint result;
   result.barycentric.setZero();
   result.point.setZero();
@@ -331,6 +334,21 @@ SurfacePoint TriangleBvh::Closest(const Eigen::Vector3d& query, double max_dista
   double limit2 = Square(max_distance + slack);
   int32_t best_triangle = -1;
   TriangleHit best_hit{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Feature::kFace, 0};
+
+  // The hint is the best so far only as the traversal would have found it: it wins ties only
+  // against higher rows, which the traversal below still checks against it.
+  if (hint >= 0 && hint < triangles_.rows()) {
+    const int32_t slot = slot_of_[hint];
+    const Corners& c = corners_[slot];
+    const TriangleHit hit = ClosestOnTriangle(query, c.a, c.b, c.c);
+    const double d2 = (query - hit.point).squaredNorm();
+    if (d2 <= best2) {
+      best2 = d2;
+      best_triangle = hint;
+      best_hit = hit;
+      limit2 = Square(std::sqrt(best2) + slack);
+    }
+  }
 
   struct Entry {
     Child child;

@@ -43,7 +43,12 @@ class TriangleBvh {
   // the same computed distance the lowest row wins, so the result depends on the positions and
   // triangles only, not on the tree: a refitted tree answers bit for bit like a fresh Build.
   // A non-finite query or a negative or NaN max_distance finds nothing.
-  SurfacePoint Closest(const Eigen::Vector3d& query, double max_distance) const;
+  // `hint`: a triangle row likely to be nearest, such as the answer for a nearby query (a
+  // garment vertex's at the previous iterate), or -1. It is measured first, so that its
+  // distance prunes the tree from the start; the answer is the same, bit for bit, with any
+  // hint (an out-of-range one is ignored).
+  SurfacePoint Closest(const Eigen::Vector3d& query, double max_distance,
+                       int32_t hint = -1) const;
 
   const Positions& positions() const { return positions_; }
   const Triangles& triangles() const { return triangles_; }
@@ -91,6 +96,7 @@ class TriangleBvh {
   // The largest coordinate magnitude, which bounds the rounding error of distances.
   double coordinate_bound_ = 0.0;
   std::vector<int32_t> order_;                          // Triangle of each slot.
+  std::vector<int32_t> slot_of_;                        // Slot of each triangle.
   std::vector<Corners> corners_;                        // Corners of each slot's triangle.
   std::vector<std::array<int32_t, 3>> triangle_edges_;  // Edge id of each triangle side.
   // Edge e's triangles are edge_triangles_[edge_offsets_[e] .. edge_offsets_[e + 1]).

@@ -437,6 +437,40 @@ TEST(TriangleBvhTest, RefitAnswersLikeAFreshBuild) {
   }
 }
 
+// A hint only orders the search. The cube's grid queries sit on exact ties between triangles,
+// where a hint that won ties it should lose would change the answer.
+TEST(TriangleBvhTest, AnyHintGivesTheSameAnswer) {
+  const TestMesh sphere = Icosphere(3, 1.0);
+  const TriangleBvh bvh = BuildOrDie(sphere);
+  const TestMesh cube = UnitCube();
+  const TriangleBvh cube_bvh = BuildOrDie(cube);
+  const auto sphere_triangles = static_cast<int32_t>(sphere.triangles.rows());
+  const auto cube_triangles = static_cast<int32_t>(cube.triangles.rows());
+  Random random(5, 0);
+  int hint_was_answer = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Eigen::Vector3d q = UniformPoint(random, -1.5, 1.5);
+    for (double max_distance : {kInfinity, 0.2}) {
+      const SurfacePoint plain = bvh.Closest(q, max_distance);
+      // The answer itself, a neighbour's worth of rows away, anywhere, and out of range.
+      const int32_t near = plain.found ? plain.triangle : 0;
+      for (int32_t hint : {near, (near + 7) % sphere_triangles,
+                           static_cast<int32_t>(random.Uniform01() * sphere_triangles), -1,
+                           sphere_triangles}) {
+        ExpectSameBits(bvh.Closest(q, max_distance, hint), plain);
+        if (plain.found && hint == plain.triangle) ++hint_was_answer;
+      }
+    }
+    const Eigen::Vector3d grid =
+        ((UniformPoint(random, -0.5, 1.5) * 4.0).array().round() / 4.0).matrix();
+    const SurfacePoint plain = cube_bvh.Closest(grid, kInfinity);
+    for (int32_t hint = 0; hint < cube_triangles; ++hint) {
+      ExpectSameBits(cube_bvh.Closest(grid, kInfinity, hint), plain);
+    }
+  }
+  EXPECT_GT(hint_was_answer, 2000);
+}
+
 TEST(TriangleBvhTest, BuildRejectsBadInput) {
   const TestMesh cube = UnitCube();
   EXPECT_THAT(TriangleBvh::Build(cube.positions, Triangles(0, 3)),

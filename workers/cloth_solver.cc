@@ -32,6 +32,8 @@ constexpr double kFinalClearance = 0.0015;
 constexpr double kOverShare = 0.5;
 // The longest vertex move of one Newton iteration, as a share of the collision search.
 constexpr double kMaxMoveShareOfSearch = 0.5;
+// Far above the rounding of a distance between points a few meters from the origin, m.
+constexpr double kClearanceRounding = 1e-9;
 // Armijo line search: sufficient decrease, and how often the step may be halved.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 12;
@@ -125,6 +127,9 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
       edge_rest_(std::move(edge_rest)),
       hinge_rest_(std::move(hinge_rest)),
       triangle_rest_areas_(TriangleRestAreas(model, edge_rest_)),
+      nearest_triangles_(static_cast<size_t>(start.rows()), -1),
+      clearances_(Eigen::VectorXd::Constant(start.rows(),
+                                            -std::numeric_limits<double>::infinity())),
       positions_(start),
       step_start_(start),
       cholesky_(settings.factorization) {
@@ -193,6 +198,8 @@ double ClothSolver::Step(const core::TriangleBvh& body) {
     pokes_found_ = true;
   }
   floor_ = body.positions().col(1).minCoeff();
+  clearances_ = Eigen::VectorXd::Constant(positions_.rows(),
+                                          -std::numeric_limits<double>::infinity());
   for (int i = 0; i < settings_.newton_iterations; ++i) {
     if (!(NewtonIteration(body) > settings_.newton_tolerance)) break;
   }
@@ -202,6 +209,8 @@ double ClothSolver::Step(const core::TriangleBvh& body) {
 double ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
   Evaluation here;
   Evaluate(positions_, body, /*derivatives=*/true, &here);
+  nearest_triangles_ = here.nearest_triangles;
+  clearances_ = here.clearances;
   Eigen::Map<Eigen::VectorXd>(hessian_.valuePtr(), hessian_.nonZeros()) = here.hessian;
   if (!cholesky_.Factorize(hessian_)) return 0;
   const Eigen::VectorXd direction = cholesky_.Solve(-here.gradient);
@@ -219,6 +228,8 @@ double ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
     Evaluate(trial, body, /*derivatives=*/false, &there);
     if (there.energy <= here.energy + kArmijo * alpha * slope) {
       positions_ = trial;
+      nearest_triangles_ = std::move(there.nearest_triangles);
+      clearances_ = std::move(there.clearances);
       return alpha * delta.rowwise().norm().maxCoeff();
     }
   }
@@ -386,6 +397,9 @@ void ClothSolver::AddContacts(const core::Positions& x, const core::TriangleBvh&
   const double k = settings_.contact_stiffness;
   const double offset = settings_.collision_offset;
   Eigen::VectorXd& h = out->hessian;
+  const double search = settings_.collision_search;
+  out->nearest_triangles.assign(static_cast<size_t>(x.rows()), -1);
+  out->clearances = Eigen::VectorXd::Constant(x.rows(), search - offset);
   for (Eigen::Index v = 0; v < x.rows(); ++v) {
     if (masses_(v) == 0) continue;
     const double floor_depth = floor_ + offset - x(v, 1);
@@ -399,7 +413,15 @@ void ClothSolver::AddContacts(const core::Positions& x, const core::TriangleBvh&
       }
     }
     const Eigen::Vector3d p = x.row(v).transpose();
-    const core::SurfacePoint hit = body.Closest(p, settings_.collision_search);
+    const double moved = (x.row(v) - positions_.row(v)).norm();
+    if (moved + kClearanceRounding < clearances_(v)) {
+      out->nearest_triangles[v] = nearest_triangles_[v];
+      out->clearances(v) = clearances_(v) - moved;
+      continue;
+    }
+    const core::SurfacePoint hit = body.Closest(p, search, nearest_triangles_[v]);
+    out->nearest_triangles[v] = hit.triangle;
+    if (hit.found) out->clearances(v) = hit.signed_distance - offset;
     if (!hit.found || hit.signed_distance >= offset) continue;
     const double depth = offset - hit.signed_distance;
     out->energy += 0.5 * k * depth * depth;
