@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "Eigen/Geometry"
+#include "Eigen/SparseCore"
 #include "core/dihedral_angle.h"
 
 namespace fitbase::workers {
@@ -66,50 +67,116 @@ Eigen::Vector3d ClothSolver::OnSkin(const core::TriangleBvh& body, const SkinPoi
   return point;
 }
 
-// Where the 3 x 3 blocks the solver writes sit in the Hessian's value array: one block per
-// vertex, and one per pair of vertices that share an edge or a hinge (a contact between a
+// Where the 3 x 3 blocks the solver writes sit in the values the factorisation takes: one block
+// per vertex, and one per pair of vertices that share an edge or a hinge (a contact between a
 // body vertex and a garment triangle couples only the triangle's corners, which share edges).
-// Only the lower triangle is stored, which is what the Cholesky factorisation reads.
+// The blocks of every edge, hinge and triangle are looked up once, here: looked up per
+// evaluation (a binary search per column) they were most of the bending's time.
 class ClothSolver::HessianPattern {
  public:
-  HessianPattern(Eigen::Index vertex_count, const std::vector<std::array<int32_t, 2>>& edges,
-                 const std::vector<std::array<int32_t, 4>>& hinges,
-                 Eigen::SparseMatrix<double>* matrix) {
+  // A block and whether the caller's (i, j) is its transpose.
+  struct Ref {
+    int32_t block;
+    bool transposed;
+  };
+
+  // Builds the lower triangle's pattern and has `cholesky` analyse it.
+  HessianPattern(const ClothModel& model, SparseCholesky* cholesky)
+      : vertex_count_(static_cast<int32_t>(model.inverse_masses.size())) {
+    for (const auto& [i, j] : model.edges) pairs_.push_back({std::max(i, j), std::min(i, j)});
+    // A hinge's other pairs are triangle edges already.
+    for (const auto& h : model.hinges) {
+      pairs_.push_back({std::max(h[2], h[3]), std::min(h[2], h[3])});
+    }
+    std::sort(pairs_.begin(), pairs_.end());
+    pairs_.erase(std::unique(pairs_.begin(), pairs_.end()), pairs_.end());
     std::vector<Eigen::Triplet<double>> entries;
     auto add_block = [&](int32_t i, int32_t j) {
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) entries.emplace_back(3 * i + a, 3 * j + b, 0.0);
     };
-    for (int32_t v = 0; v < vertex_count; ++v) add_block(v, v);
-    for (const auto& [i, j] : edges) add_block(std::max(i, j), std::min(i, j));
-    // A hinge's other pairs are triangle edges already.
-    for (const auto& h : hinges) add_block(std::max(h[2], h[3]), std::min(h[2], h[3]));
-    matrix->resize(3 * vertex_count, 3 * vertex_count);
-    matrix->setFromTriplets(entries.begin(), entries.end());
-    matrix->makeCompressed();
-    outer_.assign(matrix->outerIndexPtr(), matrix->outerIndexPtr() + matrix->outerSize() + 1);
-    inner_.assign(matrix->innerIndexPtr(), matrix->innerIndexPtr() + matrix->nonZeros());
+    for (int32_t v = 0; v < vertex_count_; ++v) add_block(v, v);
+    for (const auto& [i, j] : pairs_) add_block(i, j);
+    Eigen::SparseMatrix<double> pattern(3 * vertex_count_, 3 * vertex_count_);
+    pattern.setFromTriplets(entries.begin(), entries.end());
+    pattern.makeCompressed();
+    const std::vector<int>& slots = cholesky->AnalyzePattern(pattern);
+    value_count_ = cholesky->ValueCount();
+    // Entry (a, b) of block (i, j): in the column 3j + b, at row 3i + a.
+    auto slot = [&](int32_t i, int32_t j, int a, int b) {
+      const int column = 3 * j + b;
+      const int* begin = pattern.innerIndexPtr() + pattern.outerIndexPtr()[column];
+      const int* end = pattern.innerIndexPtr() + pattern.outerIndexPtr()[column + 1];
+      return slots[std::lower_bound(begin, end, 3 * i + a) - pattern.innerIndexPtr()];
+    };
+    blocks_.resize(static_cast<size_t>(vertex_count_) + pairs_.size());
+    for (size_t k = 0; k < blocks_.size(); ++k) {
+      const auto [i, j] = k < static_cast<size_t>(vertex_count_)
+                              ? std::array<int32_t, 2>{static_cast<int32_t>(k),
+                                                       static_cast<int32_t>(k)}
+                              : pairs_[k - vertex_count_];
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) blocks_[k][3 * a + b] = slot(i, j, a, b);
+    }
+    for (const auto& [i, j] : model.edges) edges_.push_back(Find(i, j));
+    for (const auto& v : model.hinges) {
+      std::array<Ref, 10>& refs = hinges_.emplace_back();
+      int r = 0;
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b <= a; ++b) refs[r++] = Find(v[a], v[b]);
+    }
+    for (Eigen::Index t = 0; t < model.triangles.rows(); ++t) {
+      std::array<Ref, 6>& refs = triangles_.emplace_back();
+      const auto tri = model.triangles.row(t);
+      int r = 0;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b <= a; ++b) refs[r++] = Find(tri(a), tri(b));
+    }
   }
 
-  // Adds `block` at block row i, column j (and so its transpose at j, i).
-  void Add(int32_t i, int32_t j, const Eigen::Matrix3d& block, Eigen::VectorXd& values) const {
-    if (i < j) {
-      Add(j, i, block.transpose(), values);
+  // The number of values, all blocks' entries.
+  int ValueCount() const { return value_count_; }
+
+  // Adds `block` at block row i, column j (and so its transpose at j, i), found by `ref`.
+  void Add(Ref ref, const Eigen::Matrix3d& block, Eigen::VectorXd& values) const {
+    const std::array<int, 9>& at = blocks_[ref.block];
+    if (ref.block < vertex_count_) {
+      // A vertex's own block is symmetric; the factorisation reads its lower triangle.
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b <= a; ++b) values(at[3 * a + b]) += block(a, b);
       return;
     }
-    for (int b = 0; b < 3; ++b) {
-      const int column = 3 * j + b;
-      const auto begin = inner_.begin() + outer_[column];
-      const auto row = std::lower_bound(begin, inner_.begin() + outer_[column + 1], 3 * i);
-      const Eigen::Index at = row - inner_.begin();
-      // A diagonal block's upper entries are stored too but never read.
-      for (int a = 0; a < 3; ++a) values(at + a) += block(a, b);
-    }
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        values(at[3 * a + b]) += ref.transposed ? block(b, a) : block(a, b);
+      }
+  }
+  void AddVertex(int32_t v, const Eigen::Matrix3d& block, Eigen::VectorXd& values) const {
+    Add(Ref{v, false}, block, values);
   }
 
+  // The block of model edge e's ends (i, j), as the edge lists them.
+  Ref Edge(size_t e) const { return edges_[e]; }
+  // The blocks of hinge h's pairs (a, b), b <= a, in that order, a and b index its vertices.
+  const std::array<Ref, 10>& Hinge(size_t h) const { return hinges_[h]; }
+  // The same for triangle t's corners.
+  const std::array<Ref, 6>& Triangle(Eigen::Index t) const { return triangles_[t]; }
+
  private:
-  std::vector<int> outer_;
-  std::vector<int> inner_;
+  Ref Find(int32_t i, int32_t j) const {
+    if (i == j) return Ref{i, false};
+    const std::array<int32_t, 2> key{std::max(i, j), std::min(i, j)};
+    const auto at = std::lower_bound(pairs_.begin(), pairs_.end(), key);
+    return Ref{vertex_count_ + static_cast<int32_t>(at - pairs_.begin()), i < j};
+  }
+
+  int32_t vertex_count_;
+  int value_count_ = 0;
+  std::vector<std::array<int32_t, 2>> pairs_;  // (row, column) vertex pairs, row > column.
+  std::vector<std::array<int, 9>> blocks_;     // Per vertex, then per pair: entry a, b at 3a + b.
+  std::vector<Ref> edges_;
+  std::vector<std::array<Ref, 10>> hinges_;
+  std::vector<std::array<Ref, 6>> triangles_;
 };
 
 ClothSettings WithoutSupports(ClothSettings settings) {
@@ -178,9 +245,7 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
   }
   // The model's triangles and the start positions were validated when the model was built.
   garment_bvh_.emplace(*core::TriangleBvh::Build(positions_, model_.triangles));
-  pattern_ = std::make_unique<HessianPattern>(start.rows(), model_.edges, model_.hinges,
-                                              &hessian_);
-  cholesky_.AnalyzePattern(hessian_);
+  pattern_ = std::make_unique<HessianPattern>(model_, &cholesky_);
 }
 
 ClothSolver::~ClothSolver() = default;
@@ -211,8 +276,7 @@ double ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
   Evaluate(positions_, body, /*derivatives=*/true, &here);
   nearest_triangles_ = here.nearest_triangles;
   clearances_ = here.clearances;
-  Eigen::Map<Eigen::VectorXd>(hessian_.valuePtr(), hessian_.nonZeros()) = here.hessian;
-  if (!cholesky_.Factorize(hessian_)) return 0;
+  if (!cholesky_.Factorize(here.hessian)) return 0;
   const Eigen::VectorXd direction = cholesky_.Solve(-here.gradient);
   const double slope = here.gradient.dot(direction);
   if (!(slope < 0)) return 0;
@@ -242,14 +306,14 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
   out->energy = 0;
   if (derivatives) {
     out->gradient = Eigen::VectorXd::Zero(3 * n);
-    out->hessian = Eigen::VectorXd::Zero(hessian_.nonZeros());
+    out->hessian = Eigen::VectorXd::Zero(pattern_->ValueCount());
   }
   const double inertia = 1.0 / (settings_.step_seconds * settings_.step_seconds);
   for (Eigen::Index v = 0; v < n; ++v) {
     const double m = masses_(v);
     if (m == 0) {
       // Unused vertices stay where they are: a unit diagonal and no force.
-      if (derivatives) pattern_->Add(v, v, Eigen::Matrix3d::Identity(), out->hessian);
+      if (derivatives) pattern_->AddVertex(v, Eigen::Matrix3d::Identity(), out->hessian);
       continue;
     }
     const Eigen::RowVector3d offset = x.row(v) - step_start_.row(v);
@@ -257,7 +321,7 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     if (!derivatives) continue;
     out->gradient.segment<3>(3 * v) += m * inertia * offset.transpose();
     out->gradient(3 * v + 1) += m * settings_.gravity;
-    pattern_->Add(v, v, m * inertia * Eigen::Matrix3d::Identity(), out->hessian);
+    pattern_->AddVertex(v, m * inertia * Eigen::Matrix3d::Identity(), out->hessian);
   }
   AddSprings(x, derivatives, out);
   AddBending(x, derivatives, out);
@@ -269,7 +333,7 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     out->gradient(3 * a.vertex + 1) += a.stiffness * c;
     Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
     block(1, 1) = a.stiffness;
-    pattern_->Add(a.vertex, a.vertex, block, out->hessian);
+    pattern_->AddVertex(a.vertex, block, out->hessian);
   }
   // The slip at which a tie reaches its limit (ClothSettings::tie_limit), m.
   const double yield = settings_.tie_limit * settings_.gravity / settings_.skin_tie;
@@ -290,14 +354,14 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
       out->energy += 0.5 * k * s * s;
       if (!derivatives) continue;
       out->gradient.segment<3>(3 * tie.vertex) += k * slip;
-      pattern_->Add(tie.vertex, tie.vertex, k * tangential, out->hessian);
+      pattern_->AddVertex(tie.vertex, k * tangential, out->hessian);
       continue;
     }
     out->energy += k * yield * (s - 0.5 * yield);
     if (!derivatives) continue;
     const Eigen::Vector3d along = slip / s;
     out->gradient.segment<3>(3 * tie.vertex) += k * yield * along;
-    pattern_->Add(tie.vertex, tie.vertex,
+    pattern_->AddVertex(tie.vertex,
                   k * yield / s * (tangential - along * along.transpose()), out->hessian);
   }
   AddContacts(x, body, derivatives, out);
@@ -306,8 +370,8 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
 void ClothSolver::AddSprings(const core::Positions& x, bool derivatives,
                              Evaluation* out) const {
   // One spring of stiffness k and rest length `rest` between the ends of edge (i, j).
-  auto add = [&](int32_t i, int32_t j, const Eigen::Vector3d& d, double length, double rest,
-                 double k) {
+  auto add = [&](size_t e, int32_t i, int32_t j, const Eigen::Vector3d& d, double length,
+                 double rest, double k) {
     if (k == 0) return;
     out->energy += 0.5 * k * (length - rest) * (length - rest);
     if (!derivatives) return;
@@ -318,9 +382,9 @@ void ClothSolver::AddSprings(const core::Positions& x, bool derivatives,
     out->gradient.segment<3>(3 * j) -= force;
     const Eigen::Matrix3d block = SpringBlock(d, length, rest, k);
     Eigen::VectorXd& h = out->hessian;
-    pattern_->Add(i, i, block, h);
-    pattern_->Add(j, j, block, h);
-    pattern_->Add(i, j, -block, h);
+    pattern_->AddVertex(i, block, h);
+    pattern_->AddVertex(j, block, h);
+    pattern_->Add(pattern_->Edge(e), -block, h);
   };
   for (size_t e = 0; e < model_.edges.size(); ++e) {
     const auto [i, j] = model_.edges[e];
@@ -328,14 +392,14 @@ void ClothSolver::AddSprings(const core::Positions& x, bool derivatives,
     const double length = d.norm();
     const double r = edge_rest_(static_cast<Eigen::Index>(e));
     if (!waistband_edge_[e]) {
-      add(i, j, d, length, r,
+      add(e, i, j, d, length, r,
           length < r ? settings_.compression_stiffness : settings_.stretch_stiffness);
       continue;
     }
     // The band's fabric gathers on its elastic, which only pulls.
-    if (length > r) add(i, j, d, length, r, settings_.stretch_stiffness);
+    if (length > r) add(e, i, j, d, length, r, settings_.stretch_stiffness);
     const double elastic_rest = settings_.waistband_grip * r;
-    if (length > elastic_rest) add(i, j, d, length, elastic_rest, settings_.waistband_stiffness);
+    if (length > elastic_rest) add(e, i, j, d, length, elastic_rest, settings_.waistband_stiffness);
   }
 }
 
@@ -354,10 +418,12 @@ void ClothSolver::AddBending(const core::Positions& x, bool derivatives,
     if (!derivatives) continue;
     // Gauss-Newton: the angle's own curvature is left out, which keeps the Hessian
     // positive semi-definite.
+    const std::array<HessianPattern::Ref, 10>& blocks = pattern_->Hinge(h);
+    int block = 0;
     for (int a = 0; a < 4; ++a) {
       out->gradient.segment<3>(3 * v[a]) += weight * bend * hinge.gradient.col(a);
       for (int b = 0; b <= a; ++b) {
-        pattern_->Add(v[a], v[b],
+        pattern_->Add(blocks[block++],
                       weight * hinge.gradient.col(a) * hinge.gradient.col(b).transpose(),
                       out->hessian);
       }
@@ -383,10 +449,12 @@ void ClothSolver::AddAreaFloor(const core::Positions& x, bool derivatives, Evalu
     const Eigen::Vector3d normal = n / twice_area;
     Eigen::Vector3d grad[3];
     for (int c = 0; c < 3; ++c) grad[c] = 0.5 * normal.cross(p[(c + 2) % 3] - p[(c + 1) % 3]);
+    const std::array<HessianPattern::Ref, 6>& blocks = pattern_->Triangle(t);
+    int block = 0;
     for (int a = 0; a < 3; ++a) {
       out->gradient.segment<3>(3 * tri(a)) -= k * shortfall * grad[a];
       for (int b = 0; b <= a; ++b) {
-        pattern_->Add(tri(a), tri(b), k / rest * grad[a] * grad[b].transpose(), out->hessian);
+        pattern_->Add(blocks[block++], k / rest * grad[a] * grad[b].transpose(), out->hessian);
       }
     }
   }
@@ -409,7 +477,7 @@ void ClothSolver::AddContacts(const core::Positions& x, const core::TriangleBvh&
         out->gradient(3 * v + 1) -= k * floor_depth;
         Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
         block(1, 1) = k;
-        pattern_->Add(v, v, block, h);
+        pattern_->AddVertex(v, block, h);
       }
     }
     const Eigen::Vector3d p = x.row(v).transpose();
@@ -432,7 +500,7 @@ void ClothSolver::AddContacts(const core::Positions& x, const core::TriangleBvh&
                                        ? Eigen::Vector3d((p - hit.point) / hit.signed_distance)
                                        : hit.normal;
     out->gradient.segment<3>(3 * v) -= k * depth * normal;
-    pattern_->Add(v, v, k * normal * normal.transpose(), h);
+    pattern_->AddVertex(v, k * normal * normal.transpose(), h);
   }
   for (const Poke& poke : pokes_) {
     const auto tri = model_.triangles.row(poke.triangle);
@@ -444,12 +512,15 @@ void ClothSolver::AddContacts(const core::Positions& x, const core::TriangleBvh&
     if (depth <= 0) continue;
     out->energy += 0.5 * k * depth * depth;
     if (!derivatives) continue;
+    const std::array<HessianPattern::Ref, 6>& blocks = pattern_->Triangle(poke.triangle);
+    int block = 0;
     for (int a = 0; a < 3; ++a) {
       out->gradient.segment<3>(3 * tri(a)) -= k * depth * poke.barycentric(a) * poke.normal;
       for (int b = 0; b <= a; ++b) {
-        const Eigen::Matrix3d block = k * poke.barycentric(a) * poke.barycentric(b) *
-                                      poke.normal * poke.normal.transpose();
-        pattern_->Add(tri(a), tri(b), block, h);
+        pattern_->Add(blocks[block++],
+                      k * poke.barycentric(a) * poke.barycentric(b) * poke.normal *
+                          poke.normal.transpose(),
+                      h);
       }
     }
   }

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "Eigen/Core"
-#include "Eigen/SparseCore"
 #include "core/mesh.h"
 #include "core/triangle_bvh.h"
 #include "workers/cloth_model.h"
@@ -190,7 +189,7 @@ class ClothSolver {
   struct Evaluation {
     double energy = 0;
     Eigen::VectorXd gradient;  // 3V.
-    Eigen::VectorXd hessian;   // Values of hessian_'s entries.
+    Eigen::VectorXd hessian;   // As the factorisation takes them (HessianPattern).
     // Per vertex, at the evaluated positions: see nearest_triangles_ and clearances_.
     std::vector<int32_t> nearest_triangles;
     Eigen::VectorXd clearances;
@@ -255,7 +254,6 @@ class ClothSolver {
   core::Positions pokes_body_;  // The body of the previous step.
   bool pokes_found_ = false;
   // The Hessian's sparsity never changes, so its fill-reducing ordering is computed once.
-  Eigen::SparseMatrix<double> hessian_;
   std::unique_ptr<const HessianPattern> pattern_;
   SparseCholesky cholesky_;
 };

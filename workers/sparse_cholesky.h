@@ -2,6 +2,7 @@
 #define FITBASE_WORKERS_SPARSE_CHOLESKY_H_
 
 #include <memory>
+#include <vector>
 
 #include "Eigen/Core"
 #include "Eigen/SparseCore"
@@ -21,9 +22,12 @@ enum class Factorization {
 };
 
 // Factorises symmetric positive definite matrices of one fixed sparsity pattern, many times
-// (a Newton solve per iteration): the ordering and symbolic analysis are done once. Reads only
-// the lower triangle. Deterministic with BLAS on one thread: the same matrix gives the
-// same bits (CHOLMOD is asked for a single ordering).
+// (a Newton solve per iteration): the ordering and symbolic analysis are done once. Each
+// factorisation takes the matrix's values in the factorisation's own layout, which
+// AnalyzePattern gives: the caller writes them there directly, so no factorisation copies or
+// permutes the matrix (CHOLMOD, given the lower triangle in the caller's order, transposed it
+// twice per factorisation: 9% of a drape). Deterministic with BLAS on one thread: the same
+// matrix gives the same bits (CHOLMOD is asked for a single ordering).
 class SparseCholesky {
  public:
   explicit SparseCholesky(Factorization kind);
@@ -31,15 +35,24 @@ class SparseCholesky {
   SparseCholesky(const SparseCholesky&) = delete;
   SparseCholesky& operator=(const SparseCholesky&) = delete;
 
-  // `pattern` (n x n, compressed, lower triangle stored).
-  void AnalyzePattern(const Eigen::SparseMatrix<double>& pattern);
-  // False if the matrix is not positive definite (then Solve must not be called).
-  bool Factorize(const Eigen::SparseMatrix<double>& matrix);
+  // `pattern`: n x n, compressed, the lower triangle (row >= column) stored; entries above
+  // the diagonal are allowed and ignored. Returns, for each of its stored entries in storage
+  // order, the index of that entry's value in the `values` Factorize takes, or -1 for an
+  // entry above the diagonal.
+  const std::vector<int>& AnalyzePattern(const Eigen::SparseMatrix<double>& pattern);
+  // The number of values Factorize takes.
+  int ValueCount() const;
+  // `values`: ValueCount() entries, placed as AnalyzePattern said. False if the matrix is not
+  // positive definite, `values` has another size or the analysis failed (CHOLMOD out of
+  // memory); then Solve must not be called.
+  bool Factorize(const Eigen::VectorXd& values);
   // x = A^-1 b for the last factorised A; b and x have n rows.
   Eigen::VectorXd Solve(const Eigen::VectorXd& b) const;
 
- private:
+  // One implementation per Factorization, in the .cc file.
   class Impl;
+
+ private:
   std::unique_ptr<Impl> impl_;
 };
 

@@ -33,6 +33,17 @@ Eigen::SparseMatrix<double> GridMatrix(int side, double diagonal) {
   return matrix;
 }
 
+// `matrix`'s stored values placed as `cholesky` wants them.
+Eigen::VectorXd Values(SparseCholesky& cholesky, const Eigen::SparseMatrix<double>& matrix) {
+  const std::vector<int>& slots = cholesky.AnalyzePattern(matrix);
+  EXPECT_EQ(slots.size(), static_cast<size_t>(matrix.nonZeros()));
+  Eigen::VectorXd values = Eigen::VectorXd::Zero(cholesky.ValueCount());
+  for (size_t k = 0; k < slots.size(); ++k) {
+    if (slots[k] >= 0) values(slots[k]) += matrix.valuePtr()[k];
+  }
+  return values;
+}
+
 int ThreadCount() {
   int count = 0;
   for ([[maybe_unused]] const auto& task :
@@ -49,20 +60,46 @@ TEST(SparseCholeskyTest, BothFactorizationsSolveTheSameSystem) {
   std::vector<Eigen::VectorXd> solutions;
   for (Factorization kind : {Factorization::kSimplicialLdlt, Factorization::kSupernodalCholmod}) {
     SparseCholesky cholesky(kind);
-    cholesky.AnalyzePattern(a);
-    ASSERT_TRUE(cholesky.Factorize(a));
+    ASSERT_TRUE(cholesky.Factorize(Values(cholesky, a)));
     solutions.push_back(cholesky.Solve(b));
     EXPECT_LT((full * solutions.back() - b).norm(), 1e-9 * b.norm());
   }
   EXPECT_LT((solutions[0] - solutions[1]).norm(), 1e-9 * solutions[0].norm());
 }
 
+// The cloth solver's pattern stores its vertex blocks whole; the factorisation must read the
+// lower triangle only, and give the entries above the diagonal no place.
+TEST(SparseCholeskyTest, IgnoresEntriesAboveTheDiagonalAndRefusesAWrongValueCount) {
+  const Eigen::SparseMatrix<double> lower = GridMatrix(12, 0.5);
+  Eigen::SparseMatrix<double> both = lower.selfadjointView<Eigen::Lower>();
+  both.makeCompressed();
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(lower.rows(), 1.0, -3.0);
+  for (Factorization kind : {Factorization::kSimplicialLdlt, Factorization::kSupernodalCholmod}) {
+    SparseCholesky from_lower(kind);
+    ASSERT_TRUE(from_lower.Factorize(Values(from_lower, lower)));
+    SparseCholesky from_both(kind);
+    const std::vector<int> slots = from_both.AnalyzePattern(both);
+    const Eigen::VectorXd values = Values(from_both, both);
+    int ignored = 0;
+    for (Eigen::Index column = 0; column < both.outerSize(); ++column) {
+      for (int k = both.outerIndexPtr()[column]; k < both.outerIndexPtr()[column + 1]; ++k) {
+        const bool above = both.innerIndexPtr()[k] < column;
+        EXPECT_EQ(slots[k] < 0, above) << k;
+        ignored += above ? 1 : 0;
+      }
+    }
+    EXPECT_EQ(ignored, (both.nonZeros() - both.rows()) / 2);
+    ASSERT_TRUE(from_both.Factorize(values));
+    EXPECT_EQ(from_both.Solve(b), from_lower.Solve(b)) << static_cast<int>(kind);
+    EXPECT_FALSE(from_both.Factorize(Eigen::VectorXd::Ones(from_both.ValueCount() + 1)));
+  }
+}
+
 TEST(SparseCholeskyTest, ReportsAMatrixThatIsNotPositiveDefinite) {
   const Eigen::SparseMatrix<double> a = GridMatrix(10, -5.0);
   for (Factorization kind : {Factorization::kSimplicialLdlt, Factorization::kSupernodalCholmod}) {
     SparseCholesky cholesky(kind);
-    cholesky.AnalyzePattern(a);
-    EXPECT_FALSE(cholesky.Factorize(a)) << static_cast<int>(kind);
+    EXPECT_FALSE(cholesky.Factorize(Values(cholesky, a))) << static_cast<int>(kind);
   }
 }
 
@@ -74,8 +111,7 @@ TEST(SparseCholeskyTest, CholmodsParallelRegionsRunOnTheCallingThread) {
   // (2 threads before, 5 after, measured with the definition taken out).
   const Eigen::SparseMatrix<double> a = GridMatrix(150, 0.01);
   SparseCholesky cholesky(Factorization::kSupernodalCholmod);
-  cholesky.AnalyzePattern(a);
-  ASSERT_TRUE(cholesky.Factorize(a));
+  ASSERT_TRUE(cholesky.Factorize(Values(cholesky, a)));
   const Eigen::VectorXd x = cholesky.Solve(Eigen::VectorXd::Ones(a.rows()));
   const Eigen::SparseMatrix<double> full = a.selfadjointView<Eigen::Lower>();
   EXPECT_LT((full * x - Eigen::VectorXd::Ones(a.rows())).norm(),
