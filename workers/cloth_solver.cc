@@ -274,8 +274,8 @@ double ClothSolver::Step(const core::TriangleBvh& body) {
 double ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
   Evaluation here;
   Evaluate(positions_, body, /*derivatives=*/true, &here);
-  nearest_triangles_ = here.nearest_triangles;
-  clearances_ = here.clearances;
+  nearest_triangles_ = std::move(here.nearest_triangles);
+  clearances_ = std::move(here.clearances);
   if (!cholesky_.Factorize(here.hessian)) return 0;
   const Eigen::VectorXd direction = cholesky_.Solve(-here.gradient);
   const double slope = here.gradient.dot(direction);
@@ -361,8 +361,8 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     if (!derivatives) continue;
     const Eigen::Vector3d along = slip / s;
     out->gradient.segment<3>(3 * tie.vertex) += k * yield * along;
-    pattern_->AddVertex(tie.vertex,
-                  k * yield / s * (tangential - along * along.transpose()), out->hessian);
+    pattern_->AddVertex(tie.vertex, k * yield / s * (tangential - along * along.transpose()),
+                        out->hessian);
   }
   AddContacts(x, body, derivatives, out);
 }
