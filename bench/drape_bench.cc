@@ -13,10 +13,13 @@
 // --supports drapes each garment (in --sizes) onto its wearers' mean avatar, their five bench
 // bodies and the extremes of the calibrated population (the tallest, shortest and heaviest
 // --extremes of 500 sampled avatars), and prints where the waistband, collar and leg hems sit
-// by the body's landmarks against their place on the mean avatar, with a hem table.
+// by the body's landmarks against their place on the mean avatar (over all drapes, and over
+// those not flagged too small), with a hem table.
 // --speed drapes each garment in size M on its wearers' average body with Eigen's simplicial
-// LDL^T and CHOLMOD's supernodal LL^T, one after the other in one run, with the ratio, how far
-// apart the results are, and whether a repeat of the supernodal drape is bitwise equal.
+// LDL^T and CHOLMOD's supernodal LL^T, then with every step of the path solved to the
+// tolerance (the solver before the path's iterations were capped), one after the other in one
+// run, with the ratios, how far apart the results are, and whether a repeat of the default
+// drape is bitwise equal.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -426,12 +429,13 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
       "\nsupports: drapes on the mean avatar, 5 bench bodies and the tallest, shortest and "
       "heaviest %d of 500 sampled avatars of the wearers' preset; worst |change| from the mean "
       "avatar's drape of the same size, cm (band_rise: the waistband's place as a share of the "
-      "crotch-to-navel rise, in cm of the mean avatar's rise); skin through the cloth (front and "
-      "side, 600 px), all drapes' pixels together and the worst drape\n",
+      "crotch-to-navel rise, in cm of the mean avatar's rise; rise_fit and collar_fit: the same "
+      "over the drapes not flagged too small); skin through the cloth (front and side, 600 px), "
+      "all drapes' pixels together and the worst drape\n",
       extremes);
-  std::printf("%-22s %-4s %6s %8s %9s %9s %12s %12s %12s %10s %10s %10s\n", "garment", "size",
-              "drapes", "flagged", "pen<0mm", "pen<1mm", "waistband", "band_rise", "collar",
-              "skin_all", "skin_worst", "failed");
+  std::printf("%-22s %-4s %6s %8s %9s %9s %10s %10s %9s %8s %11s %10s %10s %7s\n", "garment",
+              "size", "drapes", "flagged", "pen<0mm", "pen<1mm", "waistband", "band_rise",
+              "rise_fit", "collar", "collar_fit", "skin_all", "skin_worst", "failed");
   for (size_t g = 0; g < imported.size(); ++g) {
     for (const std::string& size : sizes) {
       const v1::DrapeReport* mean = nullptr;
@@ -441,6 +445,7 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
       }
       int count = 0, flagged = 0, failed = 0;
       double below0 = 0, below1 = 0, band = -1, band_share = -1, collar = -1, skin_worst = 0;
+      double band_share_fit = -1, collar_fit = -1;  // Over the drapes not flagged.
       pipeline::SkinVisibility skin;
       for (const Row& r : rows) {
         if (r.garment != g || r.size != size) continue;
@@ -461,22 +466,29 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
                                          mean->waistband_above_navel_mm()) / 10);
         }
         if (mean != nullptr && report.has_waistband_crotch_to_navel()) {
-          band_share = std::max(band_share, std::abs(report.waistband_crotch_to_navel() -
-                                                     mean->waistband_crotch_to_navel()));
+          const double change =
+              std::abs(report.waistband_crotch_to_navel() - mean->waistband_crotch_to_navel());
+          band_share = std::max(band_share, change);
+          if (!report.overstretched()) band_share_fit = std::max(band_share_fit, change);
         }
         if (mean != nullptr && report.has_collar_above_neck_base_mm()) {
-          collar = std::max(collar, std::abs(report.collar_above_neck_base_mm() -
-                                             mean->collar_above_neck_base_mm()) / 10);
+          const double change =
+              std::abs(report.collar_above_neck_base_mm() - mean->collar_above_neck_base_mm()) /
+              10;
+          collar = std::max(collar, change);
+          if (!report.overstretched()) collar_fit = std::max(collar_fit, change);
         }
       }
       auto cm = [](double v) { return v < 0 ? std::string("-") : absl::StrFormat("%.1f", v); };
       // The band's worst change of place on the torso, in centimetres of the mean avatar's
       // crotch-to-navel rise.
-      const double band_rise = band_share < 0 ? -1 : band_share * 100 * mean_rise[g];
-      std::printf("%-22s %-4s %6d %8d %8.3f%% %8.3f%% %12s %12s %12s %9.2f%% %9.2f%% %10d\n",
-                  imported[g].name().c_str(), size.c_str(), count, flagged, 100 * below0,
-                  100 * below1, cm(band).c_str(), cm(band_rise).c_str(), cm(collar).c_str(),
-                  100 * skin.share(), 100 * skin_worst, failed);
+      auto rise_cm = [&](double share) { return share < 0 ? -1 : share * 100 * mean_rise[g]; };
+      std::printf(
+          "%-22s %-4s %6d %8d %8.3f%% %8.3f%% %10s %10s %9s %8s %11s %9.2f%% %9.2f%% %7d\n",
+          imported[g].name().c_str(), size.c_str(), count, flagged, 100 * below0, 100 * below1,
+          cm(band).c_str(), cm(rise_cm(band_share)).c_str(), cm(rise_cm(band_share_fit)).c_str(),
+          cm(collar).c_str(), cm(collar_fit).c_str(), 100 * skin.share(), 100 * skin_worst,
+          failed);
     }
   }
   std::printf(
@@ -527,10 +539,16 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
 // The two factorisations on each garment, in one run.
 void PrintSpeed(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
                 const workers::ClothSettings& settings) {
-  std::printf("\nspeed, size M on the wearers' average body, one drape at a time (s):\n");
-  std::printf("%-22s %6s %12s %12s %7s %14s %8s\n", "garment", "verts", "simplicial",
-              "supernodal", "ratio", "apart_max_mm", "repeat");
-  double total_old = 0, total_new = 0;
+  std::printf(
+      "\nspeed, size M on the wearers' average body, one drape at a time (s): the factorisations "
+      "(simplicial against supernodal, both with the path's iterations capped at %d), then the "
+      "path's steps each solved to the tolerance (up to %d iterations, the solver before "
+      "fitbase-newton-9) against capped:\n",
+      settings.path_newton_iterations, settings.newton_iterations);
+  std::printf("%-22s %6s %11s %11s %7s %11s %7s %10s %10s %8s\n", "garment", "verts",
+              "simplicial", "supernodal", "ratio", "solved", "ratio", "apart_mm", "moved_mm",
+              "repeat");
+  double total_simplicial = 0, total_supernodal = 0, total_solved = 0;
   for (const v1::Garment& g : imported) {
     const Body& body = *std::find_if(bodies.begin(), bodies.end(), [&](const Body& b) {
       return b.name == (IsMenswear(g) ? "man" : "woman");
@@ -539,29 +557,41 @@ void PrintSpeed(const std::vector<v1::Garment>& imported, const std::vector<Body
     simplicial.factorization = workers::Factorization::kSimplicialLdlt;
     workers::ClothSettings supernodal = settings;
     supernodal.factorization = workers::Factorization::kSupernodalCholmod;
+    workers::ClothSettings solved = supernodal;
+    solved.path_newton_iterations = solved.newton_iterations;
     auto timed = [&](const workers::ClothSettings& settings, double* seconds) {
       const auto start = std::chrono::steady_clock::now();
       auto fit = workers::DrapeGarment(g, "M", body.positions, settings);
       *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return fit;
     };
-    double old_s = 0, new_s = 0, again_s = 0;
-    auto old_fit = timed(simplicial, &old_s);
-    auto new_fit = timed(supernodal, &new_s);
+    double simplicial_s = 0, supernodal_s = 0, solved_s = 0, again_s = 0;
+    auto simplicial_fit = timed(simplicial, &simplicial_s);
+    auto supernodal_fit = timed(supernodal, &supernodal_s);
+    auto solved_fit = timed(solved, &solved_s);
     auto again = timed(supernodal, &again_s);
-    if (!old_fit.ok() || !new_fit.ok() || !again.ok()) {
+    if (!simplicial_fit.ok() || !supernodal_fit.ok() || !solved_fit.ok() || !again.ok()) {
       std::printf("%-22s failed\n", g.name().c_str());
       continue;
     }
-    total_old += old_s;
-    total_new += new_s;
-    std::printf("%-22s %6d %12.2f %12.2f %6.2fx %14.4f %8s\n", g.name().c_str(),
-                g.template_mesh().vertex_count(), old_s, new_s, old_s / new_s,
-                1000 * (old_fit->positions - new_fit->positions).rowwise().norm().maxCoeff(),
-                again->positions == new_fit->positions ? "bitwise" : "DIFFERS");
+    total_simplicial += simplicial_s;
+    total_supernodal += supernodal_s;
+    total_solved += solved_s;
+    // apart: the two factorisations' drapes, worst vertex; moved: the capped path's drape
+    // against every step solved, mean over the vertices.
+    std::printf(
+        "%-22s %6d %11.2f %11.2f %6.2fx %11.2f %6.2fx %10.4f %10.4f %8s\n", g.name().c_str(),
+        g.template_mesh().vertex_count(), simplicial_s, supernodal_s,
+        simplicial_s / supernodal_s, solved_s, solved_s / supernodal_s,
+        1000 * (simplicial_fit->positions - supernodal_fit->positions).rowwise().norm().maxCoeff(),
+        1000 * (solved_fit->positions - supernodal_fit->positions).rowwise().norm().mean(),
+        again->positions == supernodal_fit->positions ? "bitwise" : "DIFFERS");
   }
-  std::printf("all: %.1f s simplicial, %.1f s supernodal, %.2fx\n", total_old, total_new,
-              total_new > 0 ? total_old / total_new : 0.0);
+  if (total_supernodal > 0) {
+    std::printf("all: %.1f s simplicial, %.1f s supernodal (%.2fx), %.1f s solved (%.2fx)\n",
+                total_simplicial, total_supernodal, total_simplicial / total_supernodal,
+                total_solved, total_solved / total_supernodal);
+  }
 }
 
 int Main(int argc, char** argv) {
@@ -585,7 +615,12 @@ int Main(int argc, char** argv) {
   app.add_option("--extremes", extremes,
                  "Tallest, shortest and heaviest avatars of 500 per preset for --supports")
       ->check(CLI::Range(0, 500));
-  app.add_flag("--speed", speed, "Only compare the simplicial and the supernodal factorisation's speed");
+  app.add_flag("--speed", speed,
+               "Only compare the factorisations' speed, and the capped path against every step "
+               "solved");
+  app.add_option("--path-iterations", settings.path_newton_iterations,
+                 "Newton iterations per step while the body moves (default: ClothSettings's)")
+      ->check(CLI::Range(1, 1000));
   app.add_option("--tie-limit", settings.tie_limit,
                  "Stiction's largest force in the vertex's weights (0: none, the default)");
   app.add_option("--skin-tie", settings.skin_tie,

@@ -246,6 +246,7 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
   // The model's triangles and the start positions were validated when the model was built.
   garment_bvh_.emplace(*core::TriangleBvh::Build(positions_, model_.triangles));
   pattern_ = std::make_unique<HessianPattern>(model_, &cholesky_);
+  last_body_ = body.positions();
 }
 
 ClothSolver::~ClothSolver() = default;
@@ -265,7 +266,13 @@ double ClothSolver::Step(const core::TriangleBvh& body) {
   floor_ = body.positions().col(1).minCoeff();
   clearances_ = Eigen::VectorXd::Constant(positions_.rows(),
                                           -std::numeric_limits<double>::infinity());
-  for (int i = 0; i < settings_.newton_iterations; ++i) {
+  const bool body_moved =
+      body.positions().rows() != last_body_.rows() || body.positions() != last_body_;
+  if (body_moved) last_body_ = body.positions();
+  const int iterations =
+      body_moved ? std::min(settings_.path_newton_iterations, settings_.newton_iterations)
+                 : settings_.newton_iterations;
+  for (int i = 0; i < iterations; ++i) {
     if (!(NewtonIteration(body) > settings_.newton_tolerance)) break;
   }
   return (positions_ - step_start_).rowwise().norm().maxCoeff();

@@ -15,8 +15,9 @@ namespace fitbase::workers {
 
 // The fixed schedule every drape follows, whatever the body, so that drapes vary smoothly
 // with the body: the body moves from the mean avatar to the target in `homotopy_steps` equal
-// steps, then stays while the garment relaxes for `relax_steps`. Each step is solved to its
-// minimum (ClothSettings::newton_tolerance); the step count never depends on convergence,
+// steps (each of at most ClothSettings::path_newton_iterations Newton iterations), then stays
+// while the garment relaxes for `relax_steps`, each solved to its minimum
+// (ClothSettings::newton_tolerance); the step count never depends on convergence,
 // which is measured, not used to stop early (stopping the schedule when the garment comes to
 // rest makes results jump between nearby bodies).
 struct DrapeSchedule {

@@ -53,6 +53,7 @@ v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedu
   proto.set_step_seconds(s.step_seconds);
   proto.set_newton_iterations(static_cast<uint32_t>(s.newton_iterations));
   proto.set_newton_tolerance(s.newton_tolerance);
+  proto.set_path_newton_iterations(static_cast<uint32_t>(s.path_newton_iterations));
   proto.set_gravity(s.gravity);
   proto.set_areal_density(s.areal_density);
   proto.set_stretch_stiffness(s.stretch_stiffness);
@@ -82,6 +83,8 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   RETURN_IF_ERROR(
       CheckCount("newton_iterations", p.newton_iterations(), 1, kMaxNewtonIterations));
   RETURN_IF_ERROR(CheckNonNegative("newton_tolerance", p.newton_tolerance()));
+  RETURN_IF_ERROR(CheckCount("path_newton_iterations", p.path_newton_iterations(), 1,
+                             kMaxNewtonIterations));
   RETURN_IF_ERROR(CheckNonNegative("gravity", p.gravity()));
   RETURN_IF_ERROR(CheckPositive("areal_density", p.areal_density()));
   RETURN_IF_ERROR(CheckPositive("stretch_stiffness", p.stretch_stiffness()));
@@ -107,6 +110,8 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   *settings = ClothSettings{.step_seconds = p.step_seconds(),
                             .newton_iterations = static_cast<int>(p.newton_iterations()),
                             .newton_tolerance = p.newton_tolerance(),
+                            .path_newton_iterations =
+                                static_cast<int>(p.path_newton_iterations()),
                             .gravity = p.gravity(),
                             .areal_density = p.areal_density(),
                             .stretch_stiffness = p.stretch_stiffness(),

@@ -26,6 +26,7 @@ TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   ClothSettings settings;
   settings.contact_stiffness = 3e7;
   settings.newton_tolerance = 3e-5;
+  settings.path_newton_iterations = 7;
   settings.compression_stiffness = 150;
   settings.area_floor = 0.3;
   const DrapeTask task = MakeDrapeTask(garment_, "XL", body_, settings, {7, 9});
@@ -39,6 +40,7 @@ TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   EXPECT_EQ(back.body, task.body);
   EXPECT_EQ(back.settings.contact_stiffness, 3e7);
   EXPECT_EQ(back.settings.newton_tolerance, 3e-5);
+  EXPECT_EQ(back.settings.path_newton_iterations, 7);
   EXPECT_EQ(back.settings.compression_stiffness, 150);
   EXPECT_EQ(back.settings.area_floor, 0.3);
   EXPECT_EQ(back.schedule.homotopy_steps, 7);
@@ -70,6 +72,10 @@ TEST_F(DrapeTaskSpecTest, RefusesBadBodiesAndSettingsNamingTheProblem) {
   spec.mutable_settings()->set_newton_iterations(0);
   EXPECT_THAT(DrapeTaskFromSpec(spec),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "newton_iterations"));
+  spec = good;
+  spec.mutable_settings()->set_path_newton_iterations(0);
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "path_newton_iterations"));
   spec = good;
   spec.mutable_settings()->set_newton_tolerance(-1e-4);
   EXPECT_THAT(DrapeTaskFromSpec(spec),

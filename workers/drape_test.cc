@@ -186,15 +186,19 @@ TEST_F(DrapeTest, DoublingTheBudgetBarelyMovesTheResult) {
   EXPECT_LT(1000 * (twice->positions - once->positions).rowwise().norm().mean(), 0.5);
 }
 
-TEST_F(DrapeTest, EveryStepIsSolvedToItsMinimum) {
-  // The default settings stop a step once an iteration moves no vertex by 0.1 mm: as good as
-  // solving every step exactly, where a fixed single iteration per step is not. The stiff
-  // waistband elastic and its anchor converge last (11 um off with them, 8 mm at one iteration).
+TEST_F(DrapeTest, TheRelaxationSolvesWhatThePathLeft) {
+  // The default settings take at most ClothSettings::path_newton_iterations on the path and
+  // stop a relaxation step once an iteration moves no vertex by 0.1 mm: the result is within
+  // that tolerance of solving every step exactly (0.05 mm here; 0.01 mm when every step of
+  // the path was solved too), where a fixed single iteration per step is not (8 mm). The stiff
+  // waistband elastic and its anchor converge last.
   ClothSettings exact;
   exact.newton_iterations = 200;
+  exact.path_newton_iterations = 200;
   exact.newton_tolerance = 1e-9;
   ClothSettings single;
   single.newton_iterations = 1;
+  single.path_newton_iterations = 1;
   auto solved = Drape(Input(1.3, 1.0));
   auto reference = Drape(Input(1.3, 1.0), exact);
   auto rough = Drape(Input(1.3, 1.0), single);
@@ -206,8 +210,8 @@ TEST_F(DrapeTest, EveryStepIsSolvedToItsMinimum) {
   const double rough_off = off_mm(*rough);
   std::printf("off the exact solve, mm: solved %.4f, one iteration a step %.4f\n", solved_off,
               rough_off);
-  EXPECT_LT(solved_off, 0.02);
-  EXPECT_GT(rough_off, 100 * solved_off);
+  EXPECT_LT(solved_off, 1000 * ClothSettings{}.newton_tolerance);
+  EXPECT_GT(rough_off, 50 * solved_off);
 }
 
 TEST_F(DrapeTest, VariesSmoothlyWithTheBody) {
