@@ -214,6 +214,29 @@ TEST_F(DrapeTest, TheRelaxationSolvesWhatThePathLeft) {
   EXPECT_GT(rough_off, 50 * solved_off);
 }
 
+TEST_F(DrapeTest, OnlyThePathsStepsAreCapped) {
+  // The path's capped steps leave the garment short of its minimum when nothing relaxes it
+  // after (1.5 mm here); the relaxation steps are not capped and solve it (0.05 mm). The cap
+  // cannot go to one iteration: the relaxation then ends 8 mm from the exact solve.
+  ClothSettings exact;
+  exact.newton_iterations = 200;
+  exact.path_newton_iterations = 200;
+  exact.newton_tolerance = 1e-9;
+  const DrapeSchedule no_relax{.homotopy_steps = DrapeSchedule{}.homotopy_steps,
+                               .relax_steps = 0};
+  auto reference = Drape(Input(1.3, 1.0), exact);
+  auto relaxed = Drape(Input(1.3, 1.0));
+  auto path_only = Drape(Input(1.3, 1.0), ClothSettings{}, no_relax);
+  ASSERT_TRUE(reference.ok() && relaxed.ok() && path_only.ok());
+  auto off_mm = [&](const DrapeResult& r) {
+    return 1000 * (r.positions - reference->positions).cwiseAbs().maxCoeff();
+  };
+  std::printf("off the exact solve, mm: relaxed %.4f, path alone %.4f\n", off_mm(*relaxed),
+              off_mm(*path_only));
+  EXPECT_LT(off_mm(*relaxed), 1000 * ClothSettings{}.newton_tolerance);
+  EXPECT_GT(off_mm(*path_only), 10 * off_mm(*relaxed));
+}
+
 TEST_F(DrapeTest, VariesSmoothlyWithTheBody) {
   // The second difference over body scales 1.1 +- 0.005 (the body moves by under a
   // millimeter), held to the offline fitter's bound for real bodies: a drape that jumped
