@@ -536,7 +536,8 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
   }
 }
 
-// The two factorisations on each garment, in one run.
+// The two factorisations, and the capped path against every step solved, on each garment in
+// one run.
 void PrintSpeed(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
                 const workers::ClothSettings& settings) {
   std::printf(
