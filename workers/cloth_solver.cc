@@ -253,22 +253,23 @@ ClothSolver::~ClothSolver() = default;
 
 double ClothSolver::Step(const core::TriangleBvh& body) {
   step_start_ = positions_;
-  // Pokes are found once the body has come to rest, and kept: a contact set found anew at
-  // every step of a moving body makes the path, and so the result, depend on the step count.
-  if (pokes_body_.rows() != body.positions().rows() || body.positions() != pokes_body_) {
+  const bool body_moved =
+      body.positions().rows() != last_body_.rows() || body.positions() != last_body_;
+  if (body_moved) last_body_ = body.positions();
+  // Pokes are found once the body has come to rest (a step on the previous step's body), and
+  // kept: a contact set found anew at every step of a moving body makes the path, and so the
+  // result, depend on the step count.
+  if (body_moved || !stepped_) {
     pokes_.clear();
-    pokes_body_ = body.positions();
     pokes_found_ = false;
   } else if (!pokes_found_) {
     pokes_ = FindPokes(body);
     pokes_found_ = true;
   }
+  stepped_ = true;
   floor_ = body.positions().col(1).minCoeff();
   clearances_ = Eigen::VectorXd::Constant(positions_.rows(),
                                           -std::numeric_limits<double>::infinity());
-  const bool body_moved =
-      body.positions().rows() != last_body_.rows() || body.positions() != last_body_;
-  if (body_moved) last_body_ = body.positions();
   const int iterations =
       body_moved ? std::min(settings_.path_newton_iterations, settings_.newton_iterations)
                  : settings_.newton_iterations;

@@ -269,8 +269,8 @@ class ClothSolver {
   double floor_ = 0;
   core::Positions positions_;
   core::Positions step_start_;  // Where the current step began: the proximity term's centre.
-  core::Positions pokes_body_;  // The body of the previous step, for the pokes.
-  core::Positions last_body_;   // The body of the previous step, or the solver's start.
+  core::Positions last_body_;  // The body of the previous step, or the solver's start.
+  bool stepped_ = false;       // Whether a step was taken: the first has no previous body.
   bool pokes_found_ = false;
   // The Hessian's sparsity never changes, so its fill-reducing ordering is computed once.
   std::unique_ptr<const HessianPattern> pattern_;
