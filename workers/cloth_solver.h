@@ -39,11 +39,10 @@ struct ClothSettings {
   // less time in all (1.4 to 2.1x per drape but one); 17 results moved under 0.07 mm on the
   // mean, three 0.09 to 0.15 mm, and the stretched drapes of one heavy woman, whose folds
   // have more than one resting place, 0.25 to 0.35 mm (as much as they move with 6 here, or
-  // with only the path's tolerance loosened to 0.3 mm). It
-  // moves where along a line of bodies a fold snaps from one resting place to the other, not
-  // whether one can: at 0.1 sigma 9 of the 12 garments keep the second difference's p99
-  // under 2 mm, as before, but a different three miss it (fitbase_drape_bench
-  // --smoothness-only).
+  // with only the path's tolerance loosened to 0.3 mm). It moves where along a line of
+  // bodies a fold snaps from one resting place to the other, not whether one can: at 0.1
+  // sigma 9 of the 12 garments keep the second difference's p99 under 2 mm, as before, but a
+  // different three miss it (fitbase_drape_bench --smoothness-only).
   int path_newton_iterations = 4;
   double gravity = 9.81;        // Along -y, m/s^2.
   double areal_density = 0.15;  // kg/m^2, a light woven fabric.
