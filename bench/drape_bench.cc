@@ -627,9 +627,10 @@ int Main(int argc, char** argv) {
   app.add_option("--skin-tie", settings.skin_tie,
                  "Stiction, N/m per kg of cloth (default: ClothSettings's)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--anchor", settings.anchor_stiffness,
-                 "N/m holding a top opening's height on the body (default: ClothSettings's)")
-      ->check(CLI::PositiveNumber);
+  CLI::Option* anchor =
+      app.add_option("--anchor", settings.anchor_stiffness,
+                     "N/m holding a collar's height on the body (default: ClothSettings's)")
+          ->check(CLI::PositiveNumber);
   CLI::Option* band_stiffness =
       app.add_option("--waistband-stiffness", settings.waistband_stiffness,
                      "N/m of a waistband's elastic (0: none; default: ClothSettings's)");
@@ -642,6 +643,7 @@ int Main(int argc, char** argv) {
                      "N/m holding an elastic waistband's height (default: ClothSettings's)");
   app.add_flag("--unsupported", unsupported,
                "Drape without the supports (workers::WithoutSupports), as before them")
+      ->excludes(anchor)
       ->excludes(band_stiffness)
       ->excludes(band_grip)
       ->excludes(band_anchor);

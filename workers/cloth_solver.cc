@@ -181,7 +181,8 @@ class ClothSolver::HessianPattern {
 
 ClothSettings WithoutSupports(ClothSettings settings) {
   settings.waistband_stiffness = 0;
-  settings.waistband_anchor_stiffness = settings.anchor_stiffness;
+  settings.anchor_stiffness = kUnsupportedAnchorStiffness;
+  settings.waistband_anchor_stiffness = kUnsupportedAnchorStiffness;
   return settings;
 }
 

@@ -76,8 +76,13 @@ struct ClothSettings {
   // vertices by 18 mm more than linearly, at 2e-3 by 3 mm).
   double bending_rigidity = 2e-3;
   // Keeps a top opening's height on the body (relative to the skin point it started over),
-  // N/m: a collar on the neck. A waistband's is `waistband_anchor_stiffness`.
-  double anchor_stiffness = 20;
+  // N/m: a collar on the neck. A waistband's is `waistband_anchor_stiffness`. A shirt's front
+  // is longer than a shorter man's torso, and what soft compression it keeps pushes the collar
+  // up his neck: at 20 N/m, as before the supports, male_casualsuit02's sat 1.5 cm above the
+  // neck girth's landmarks on the mean avatar and 2.3 to 3.4 cm on the shortest men, standing
+  // 3 cm off the nape. At 200 N/m, on the 2% tails, collars of sizes that fit stay within
+  // 0.4 to 1.2 cm of their height on the mean avatar (fitbase_drape_bench --supports).
+  double anchor_stiffness = 200;
   // Stiction, N/m per kg of cloth: each vertex is held, along the body surface only, to the
   // point of the skin it started over, as it moves with the body. Without it a frictionless
   // garment has a continuum of resting places (it may slide around a limb or settle a fold to
@@ -131,9 +136,12 @@ struct ClothSettings {
   Factorization factorization = Factorization::kSupernodalCholmod;
 };
 
+// N/m holding collars and waistbands at their height without the supports.
+inline constexpr double kUnsupportedAnchorStiffness = 20;
+
 // `settings` with the supports for bodies far from the mean off: no elastic, and the waistband
-// held as softly as a collar, as every drape was before them (simulator fitbase-newton-8 with
-// the older defaults). On the 2% tails of 500 sampled avatars unsupported leggings' bands slide
+// and collars held at kUnsupportedAnchorStiffness, as every drape was before them (simulator
+// fitbase-newton-8 with the older defaults). On the 2% tails of 500 sampled avatars unsupported leggings' bands slide
 // 20 cm down the rise, supported ones stay within 1.7 cm (fitbase_drape_bench --supports).
 ClothSettings WithoutSupports(ClothSettings settings);
 

@@ -1,5 +1,6 @@
 #include "workers/drape.h"
 
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
@@ -119,9 +120,9 @@ class LongerBodyTest : public DrapeTest {
 };
 
 TEST_F(LongerBodyTest, ATieLimitKeepsTheStictionFromDraggingTheWaistbandDown) {
-  // The band held only as softly as a collar, to show the ties' pull.
+  // The band held only as softly as before the supports, to show the ties' pull.
   ClothSettings limited;
-  limited.waistband_anchor_stiffness = limited.anchor_stiffness;
+  limited.waistband_anchor_stiffness = kUnsupportedAnchorStiffness;
   limited.tie_limit = 5;
   ClothSettings unlimited = limited;
   unlimited.tie_limit = 0;
@@ -137,13 +138,31 @@ TEST_F(LongerBodyTest, ATieLimitKeepsTheStictionFromDraggingTheWaistbandDown) {
 TEST_F(LongerBodyTest, TheSupportsHoldTheWaistbandAgainstUnlimitedStiction) {
   const ClothSettings supports;
   ClothSettings soft = supports;
-  soft.waistband_anchor_stiffness = soft.anchor_stiffness;
+  soft.waistband_anchor_stiffness = kUnsupportedAnchorStiffness;
   auto supported = Drape(Longer(), supports);
   auto held_softly = Drape(Longer(), soft);
   ASSERT_TRUE(supported.ok() && held_softly.ok());
   EXPECT_EQ(supports.tie_limit, 0);
   EXPECT_NEAR(BandHeight(*supported), 0.0, 0.003);
   EXPECT_LT(BandHeight(*held_softly), BandHeight(*supported) - 0.003);
+}
+
+TEST_F(LongerBodyTest, ACollarHoldsItsHeightWhereTheClothBelowPushesItUp) {
+  // The body below the ring grows 40% shorter instead, with no waistband: the ring is held as
+  // a collar is. The stiction carries the cloth below it up with the skin, and what the
+  // fabric resists being shortened pushes the ring up, as a shirt's front pushes its collar
+  // up a shorter man's neck.
+  DrapeInput shorter = Input(1.0, 1.0);
+  shorter.waistband_edges.clear();
+  for (Eigen::Index v = 0; v < shorter.target_body.rows(); ++v) {
+    if (shorter.target_body(v, 1) < 0) shorter.target_body(v, 1) *= 0.6;
+  }
+  auto held = Drape(shorter);
+  auto soft = Drape(shorter, WithoutSupports({}));
+  ASSERT_TRUE(held.ok() && soft.ok());
+  std::printf("collar height, mm: held %.2f, as softly as before the supports %.2f\n",
+              1000 * BandHeight(*held), 1000 * BandHeight(*soft));
+  EXPECT_LT(std::abs(BandHeight(*held)), 0.5 * std::abs(BandHeight(*soft)));
 }
 
 TEST_F(DrapeTest, RejectsWaistbandEdgesOutOfOrderOrRange) {
