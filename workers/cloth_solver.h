@@ -117,7 +117,7 @@ struct ClothSettings {
   // fabric gathered on an elastic half the band's length folds one way or another, and at 0.5
   // male_casualsuit03's drape jumped between nearby bodies (p99 16.6 mm at 0.1 sigma; 0.9 mm at
   // 0.85). A band more than 1 / 0.85 = 18% wider than the waist hangs loose. Its height is
-  // held a hundred times as hard as a collar's: at 1000 N/m two garments' bands moved 2.3 to
+  // held ten times as hard as a collar's: at 1000 N/m two garments' bands moved 2.3 to
   // 2.4 cm on the rise over the population's 2% tails, at 1500 and 4000 N/m other garments'
   // folds jumped between nearby bodies.
   double waistband_grip = 0.85;
