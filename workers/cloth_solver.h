@@ -80,8 +80,10 @@ struct ClothSettings {
   // is longer than a shorter man's torso, and what soft compression it keeps pushes the collar
   // up his neck: at 20 N/m, as before the supports, male_casualsuit02's sat 1.5 cm above the
   // neck girth's landmarks on the mean avatar and 2.3 to 3.4 cm on the shortest men, standing
-  // 3 cm off the nape. At 200 N/m, on the 2% tails, collars of sizes that fit stay within
-  // 0.4 to 1.2 cm of their height on the mean avatar (fitbase_drape_bench --supports).
+  // 3 cm off the nape. At 200 N/m, over the 2% tails, collars of sizes that fit stay within
+  // 0.7 to 1.2 cm of their height on the mean avatar (fitbase_drape_bench --supports). Its
+  // cost: male_casualsuit05's and male_worksuit01's drapes, whose collar and bib edge come into
+  // and out of contact, lose smoothness (p99 2.3 and 2.6 mm at 0.1 sigma, from 1.8 and 1.2).
   double anchor_stiffness = 200;
   // Stiction, N/m per kg of cloth: each vertex is held, along the body surface only, to the
   // point of the skin it started over, as it moves with the body. Without it a frictionless
@@ -90,13 +92,14 @@ struct ClothSettings {
   // Weak next to the stretch springs: it does not stop a garment stretching or lifting off.
   double skin_tie = 1e4;
   // Supports for bodies far from the mean (README, "Bodies far from the mean"; issue "The drape
-  // is true far from the mean"): an elastic waistband held at its height, below. On by
-  // default: without them a tall body's stiction drags leggings' bands 20 cm down the rise.
-  // Their cost: the folds of fabric gathered on the elastic jump between nearby bodies on 3 of
-  // the 12 shared garments (p99 2.2 to 4.9 mm at 0.1 sigma, all under 2 mm without). The fast
-  // fit learns the supported drapes no worse: kernel 5.41 mm against 5.54 at 100 samples, 4.08
-  // against 4.08 at 400, with less skin through the cloth (0.37% against 0.47%).
-  // WithoutSupports turns them off, to compare.
+  // is true far from the mean"): an elastic waistband held at its height, below, and collars
+  // held at theirs, above. On by default: without them a tall body's stiction drags leggings'
+  // bands 20 cm down the rise. Their cost: folds of fabric gathered on the elastic, or at a
+  // held collar, jump or kink between nearby bodies on 4 of the 12 shared garments (p99 2.3 to
+  // 3.8 mm at 0.1 sigma, all under 2 mm without). The fast fit learns the supported drapes no
+  // worse: kernel 5.41 mm against 5.54 at 100 samples, 4.08 against 4.08 at 400, with less
+  // skin through the cloth (0.37% against 0.47%); with the collars held, 4.83 mm against 4.97
+  // on four garments at 100 samples. WithoutSupports turns them off, to compare.
   // With `tie_limit` > 0 the stiction gives way like friction: its force grows with the slip
   // up to `tie_limit` times the vertex's weight, then stays (a Huber energy). Unbounded, the
   // ties of a whole trouser leg drag the hems down with the ankles of a tall body and the
