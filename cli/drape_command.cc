@@ -116,7 +116,7 @@ void AddDrapeCommand(CLI::App& app, CliContext& context) {
                     "drape (physics, default) or geometric (the .mhclo binding baseline)");
   drape->add_flag("--no-supports", flags->no_supports,
                   "Without the supports for bodies far from the mean (an elastic waistband "
-                  "held at its height), as drapes were before them");
+                  "and collars held at their height), as drapes were before them");
   drape->callback([&context, flags] { context.action = [flags] { return RunDrape(*flags); }; });
 }
 

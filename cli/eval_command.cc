@@ -129,7 +129,7 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
       ->check(CLI::Range(1, 256));
   eval->add_flag("--no-supports", flags->no_supports,
                  "Drape without the supports for bodies far from the mean (an elastic "
-                 "waistband held at its height), as drapes were before them");
+                 "waistband and collars held at their height), as drapes were before them");
   AddDrapeScheduleOptions(eval, flags->schedule);
   eval->add_option("--cache", flags->cache,
                    "Folder of drape results reused by content key (default: OUT/drapes)");
