@@ -144,8 +144,9 @@ inline constexpr double kUnsupportedAnchorStiffness = 20;
 
 // `settings` with the supports for bodies far from the mean off: no elastic, and the waistband
 // and collars held at kUnsupportedAnchorStiffness, as every drape was before them (simulator
-// fitbase-newton-8 with the older defaults). On the 2% tails of 500 sampled avatars unsupported leggings' bands slide
-// 20 cm down the rise, supported ones stay within 1.7 cm (fitbase_drape_bench --supports).
+// fitbase-newton-8 with the older defaults). On the 2% tails of 500 sampled avatars
+// unsupported leggings' bands slide 20 cm down the rise, supported ones stay within 1.7 cm
+// (fitbase_drape_bench --supports).
 ClothSettings WithoutSupports(ClothSettings settings);
 
 // Quasi-static cloth: every step minimises the garment's elastic, gravity, stiction and contact
