@@ -105,13 +105,15 @@ TEST_F(DrapeTest, TheWaistbandsElasticGripsTheWaist) {
 // skin below.
 class LongerBodyTest : public DrapeTest {
  protected:
-  DrapeInput Longer() const {
+  // The body below the waist (y < 0) stretched by `factor` in height.
+  DrapeInput BelowWaist(double factor) const {
     DrapeInput input = Input(1.0, 1.0);
     for (Eigen::Index v = 0; v < input.target_body.rows(); ++v) {
-      if (input.target_body(v, 1) < 0) input.target_body(v, 1) *= 1.4;
+      if (input.target_body(v, 1) < 0) input.target_body(v, 1) *= factor;
     }
     return input;
   }
+  DrapeInput Longer() const { return BelowWaist(1.4); }
   double BandHeight(const DrapeResult& r) const {
     double sum = 0;
     for (int32_t v : top_.vertices) sum += r.positions(v, 1);
@@ -152,11 +154,8 @@ TEST_F(LongerBodyTest, ACollarHoldsItsHeightWhereTheClothBelowPushesItUp) {
   // a collar is. The stiction carries the cloth below it up with the skin, and what the
   // fabric resists being shortened pushes the ring up, as a shirt's front pushes its collar
   // up a shorter man's neck.
-  DrapeInput shorter = Input(1.0, 1.0);
+  DrapeInput shorter = BelowWaist(0.6);
   shorter.waistband_edges.clear();
-  for (Eigen::Index v = 0; v < shorter.target_body.rows(); ++v) {
-    if (shorter.target_body(v, 1) < 0) shorter.target_body(v, 1) *= 0.6;
-  }
   auto held = Drape(shorter);
   auto soft = Drape(shorter, WithoutSupports({}));
   ASSERT_TRUE(held.ok() && soft.ok());
