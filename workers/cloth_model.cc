@@ -151,25 +151,52 @@ Eigen::VectorXd PairLengths(const core::Positions& positions,
   return lengths;
 }
 
-absl::StatusOr<std::vector<int32_t>> WaistbandEdges(const ClothModel& model,
-                                                    const core::Positions& mean_body) {
+absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Positions& garment,
+                                      const core::Positions& mean_body) {
   using body::BodyLandmarks;
   if (mean_body.rows() != body::kBodyVertexCount) {
     return absl::InvalidArgumentError(absl::StrCat("the mean avatar has ", mean_body.rows(),
                                                    " vertices, not ", body::kBodyVertexCount));
   }
+  if (garment.rows() != model.inverse_masses.size()) {
+    return absl::InvalidArgumentError(absl::StrCat("the garment has ", garment.rows(),
+                                                   " vertices, its cloth model ",
+                                                   model.inverse_masses.size()));
+  }
   const double crotch = mean_body(BodyLandmarks::kCrotch, 1);
   const double underbust = mean_body(BodyLandmarks::kLeftUnderbust, 1);
-  std::vector<int32_t> edges;
-  for (const Opening& opening : model.openings) {
-    if (!opening.highest_of_piece || opening.mean_height <= crotch ||
-        opening.mean_height >= underbust) {
-      continue;
+  const Eigen::Vector2d torso_axis(mean_body(BodyLandmarks::kCrotch, 0),
+                                   mean_body(BodyLandmarks::kCrotch, 2));
+  const Eigen::Vector2d neck_axis(
+      0.5 * (mean_body(BodyLandmarks::kNeckFront, 0) + mean_body(BodyLandmarks::kNeckBack, 0)),
+      0.5 * (mean_body(BodyLandmarks::kNeckFront, 2) + mean_body(BodyLandmarks::kNeckBack, 2)));
+  // Even-odd rule in the x-z plane, which needs neither the loop's order nor its edges'
+  // orientation: a loop round the axis crosses the ray from it towards +x an odd number of
+  // times, one beside it (a front edge and the hem behind the axis) an even number.
+  auto rings = [&](const Opening& opening, const Eigen::Vector2d& axis) {
+    int crossings = 0;
+    for (int32_t e : opening.edges) {
+      const auto [a, b] = model.edges[e];
+      const double za = garment(a, 2) - axis.y(), zb = garment(b, 2) - axis.y();
+      if ((za > 0) == (zb > 0)) continue;
+      const double x = garment(a, 0) + (garment(b, 0) - garment(a, 0)) * za / (za - zb);
+      crossings += x > axis.x();
     }
-    edges.insert(edges.end(), opening.edges.begin(), opening.edges.end());
+    return crossings % 2 == 1;
+  };
+  Supports supports;
+  for (size_t o = 0; o < model.openings.size(); ++o) {
+    const Opening& opening = model.openings[o];
+    if (!opening.highest_of_piece || opening.mean_height <= crotch) continue;
+    if (opening.mean_height >= underbust) {
+      if (rings(opening, neck_axis)) supports.collars.push_back(static_cast<int32_t>(o));
+    } else if (rings(opening, torso_axis)) {
+      supports.waistband_edges.insert(supports.waistband_edges.end(), opening.edges.begin(),
+                                      opening.edges.end());
+    }
   }
-  std::sort(edges.begin(), edges.end());
-  return edges;
+  std::sort(supports.waistband_edges.begin(), supports.waistband_edges.end());
+  return supports;
 }
 
 Eigen::VectorXd TriangleRestAreas(const ClothModel& model, const Eigen::VectorXd& edge_rest) {

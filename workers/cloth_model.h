@@ -43,13 +43,26 @@ absl::StatusOr<ClothModel> BuildClothModel(const core::Positions& positions,
                                            const core::PolygonFaces& faces,
                                            double areal_density);
 
-// The edges (ascending indices into model.edges) of the openings that grip the body as an
-// elastic waistband does: the highest opening of a piece that lies, on the template, between
-// the crotch and the underbust of `mean_body` (the 13,380 x 3 body avatar it was fitted to,
-// m): trousers and skirts. A top's highest opening is its collar, above; it hangs from the
-// shoulders. A shoe's is below. INVALID_ARGUMENT for a body of another vertex count.
-absl::StatusOr<std::vector<int32_t>> WaistbandEdges(const ClothModel& model,
-                                                    const core::Positions& mean_body);
+// The openings that hold a garment up on the body.
+struct Supports {
+  // Ascending indices into ClothModel::edges: the boundary edges of waistbands, which grip
+  // the body as an elastic waistband does and carry ClothSettings::waistband_grip.
+  std::vector<int32_t> waistband_edges;
+  // Ascending indices into ClothModel::openings: collars, held at their height on the neck.
+  std::vector<int32_t> collars;
+};
+
+// The supports of a garment whose template `garment` (V x 3, m) sits on `mean_body` (the
+// 13,380 x 3 body avatar it was fitted to, m). A support is the highest opening of its piece
+// and rings the body: seen from above, it goes round the body's vertical axis. Between the
+// crotch and the underbust, round the torso's (through the crotch), it is a waistband:
+// trousers and skirts. Above the underbust, round the neck's (between the neck girth's
+// landmarks), it is a collar; a top hangs from the shoulders under it. An open jacket's front
+// edge, which runs down from the neck and back round the hem, a button, a buckle's hole and
+// a separate collar open at the front ring nothing; neither do shoes, below. INVALID_ARGUMENT
+// for a body of another vertex count or a garment of another vertex count than the model's.
+absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Positions& garment,
+                                      const core::Positions& mean_body);
 
 // Current bending angles of `hinges` for `positions` (rad; 0 for a degenerate hinge).
 Eigen::VectorXd HingeAngles(const core::Positions& positions,

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "body/body_measurements.h"
+#include "body/body_model.h"
 #include "gtest/gtest.h"
 #include "workers/test_shapes.h"
 
@@ -66,6 +68,89 @@ TEST(ClothModelTest, TubeHasTwoOpeningsTheTopOneHighest) {
   // fold, by the 12-gon's exterior angle.
   const Eigen::VectorXd angles = HingeAngles(tube.positions, model->hinges);
   EXPECT_NEAR(angles.cwiseAbs().maxCoeff(), 2 * 3.14159265358979323846 / 12, 1e-9);
+}
+
+// `part` appended to `mesh` as a piece of its own.
+void Append(const core::Mesh& part, core::Mesh* mesh) {
+  const int32_t offset = static_cast<int32_t>(mesh->positions.rows());
+  mesh->positions.conservativeResize(offset + part.positions.rows(), 3);
+  mesh->positions.bottomRows(part.positions.rows()) = part.positions;
+  mesh->faces.sizes.insert(mesh->faces.sizes.end(), part.faces.sizes.begin(),
+                           part.faces.sizes.end());
+  for (int32_t index : part.faces.indices) mesh->faces.indices.push_back(offset + index);
+}
+
+// `tube` without the faces of its column in front (+z): a jacket open down its front.
+core::Mesh OpenInFront(core::Mesh tube, int segments) {
+  core::PolygonFaces faces;
+  const int front = 3 * segments / 4;  // Tube's column s sits at angle 2 pi s / segments.
+  for (size_t f = 0; f < tube.faces.sizes.size(); ++f) {
+    if (static_cast<int>(f) % segments == front) continue;
+    faces.sizes.push_back(4);
+    faces.indices.insert(faces.indices.end(), tube.faces.indices.begin() + 4 * f,
+                         tube.faces.indices.begin() + 4 * (f + 1));
+  }
+  tube.faces = faces;
+  return tube;
+}
+
+TEST(FindSupportsTest, OnlyOpeningsRoundTheTorsoOrTheNeckHoldTheGarmentUp) {
+  using body::BodyLandmarks;
+  core::Positions body = core::Positions::Zero(body::kBodyVertexCount, 3);
+  body.row(BodyLandmarks::kCrotch) << 0, 0, 0.02;
+  body.row(BodyLandmarks::kLeftUnderbust) << 0.1, 0.4, 0.1;
+  body.row(BodyLandmarks::kNeckFront) << 0, 0.6, 0.06;
+  body.row(BodyLandmarks::kNeckBack) << 0, 0.6, -0.04;
+  // Pieces in the order of their lowest vertex: trousers, a button on them, a jacket open in
+  // front, a shirt's collar.
+  core::Mesh garment;
+  Append(Tube(0.16, -0.3, 0.2, 4, 16), &garment);
+  core::Mesh button = Tube(0.01, 0.25, 0.26, 1, 6);
+  button.positions.rowwise() += Eigen::RowVector3d(0.05, 0, 0.17);
+  Append(button, &garment);
+  Append(OpenInFront(Tube(0.19, 0.3, 0.62, 4, 16), 16), &garment);
+  Append(Tube(0.07, 0.5, 0.62, 2, 16), &garment);
+  auto model = BuildClothModel(garment.positions, garment.faces, 0.2);
+  ASSERT_TRUE(model.ok()) << model.status();
+  // The trousers' hem and waistband, the button's two rims, the jacket's one loop (front
+  // edges, hem and neckline), the collar's two rims.
+  ASSERT_EQ(model->openings.size(), 7u);
+  auto top_of_piece = [&](int32_t piece) {
+    for (size_t o = 0; o < model->openings.size(); ++o) {
+      const Opening& opening = model->openings[o];
+      if (opening.piece == piece && opening.highest_of_piece) return static_cast<int32_t>(o);
+    }
+    return int32_t{-1};
+  };
+  const Opening& jacket = model->openings[top_of_piece(2)];
+  // Both a waistband's and a collar's place: only the ring decides.
+  ASSERT_GT(jacket.mean_height, 0.3);
+  ASSERT_LT(jacket.mean_height, 0.62);
+
+  auto supports = FindSupports(*model, garment.positions, body);
+  ASSERT_TRUE(supports.ok()) << supports.status();
+  std::vector<int32_t> band = model->openings[top_of_piece(0)].edges;
+  std::sort(band.begin(), band.end());
+  EXPECT_EQ(supports->waistband_edges, band);
+  EXPECT_EQ(supports->collars, std::vector<int32_t>{top_of_piece(3)});
+
+  // With the underbust lower, the jacket's loop is above it: no collar either.
+  body(BodyLandmarks::kLeftUnderbust, 1) = 0.28;
+  supports = FindSupports(*model, garment.positions, body);
+  ASSERT_TRUE(supports.ok());
+  EXPECT_EQ(supports->waistband_edges, band);
+  EXPECT_EQ(supports->collars, std::vector<int32_t>{top_of_piece(3)});
+}
+
+TEST(FindSupportsTest, RejectsABodyOrGarmentOfAnotherVertexCount) {
+  const core::Mesh tube = Tube(0.2, 0.0, 0.4, 2, 6);
+  auto model = BuildClothModel(tube.positions, tube.faces, 0.2);
+  ASSERT_TRUE(model.ok());
+  const core::Positions body = core::Positions::Zero(body::kBodyVertexCount, 3);
+  EXPECT_EQ(FindSupports(*model, tube.positions, body.topRows(100)).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(FindSupports(*model, tube.positions.topRows(6), body).status().code(),
+            absl::StatusCode::kInvalidArgument);
 }
 
 TEST(ClothModelTest, RejectsBadFaces) {

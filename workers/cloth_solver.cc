@@ -188,8 +188,8 @@ ClothSettings WithoutSupports(ClothSettings settings) {
 
 ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
                          Eigen::VectorXd edge_rest, Eigen::VectorXd hinge_rest,
-                         const std::vector<int32_t>& waistband_edges,
-                         const core::TriangleBvh& body, const ClothSettings& settings)
+                         const Supports& supports, const core::TriangleBvh& body,
+                         const ClothSettings& settings)
     : model_(model),
       settings_(settings),
       edge_rest_(std::move(edge_rest)),
@@ -215,21 +215,27 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
                      start.row(v).transpose() - hit.point});
   }
   waistband_edge_.assign(model.edges.size(), false);
-  std::vector<bool> in_waistband(static_cast<size_t>(start.rows()), false);
   if (settings.waistband_stiffness > 0) {
-    for (int32_t e : waistband_edges) {
-      waistband_edge_[e] = true;
-      for (int32_t v : model.edges[e]) in_waistband[v] = true;
-    }
+    for (int32_t e : supports.waistband_edges) waistband_edge_[e] = true;
   }
-  for (const Opening& opening : model.openings) {
+  for (size_t o = 0; o < model.openings.size(); ++o) {
+    const Opening& opening = model.openings[o];
     if (!opening.highest_of_piece) continue;
+    // Openings that ring nothing (an open front, a button) are held as every top opening was
+    // before the supports.
+    double stiffness = kUnsupportedAnchorStiffness;
+    if (std::binary_search(supports.collars.begin(), supports.collars.end(),
+                           static_cast<int32_t>(o))) {
+      stiffness = settings.anchor_stiffness;
+    } else if (!opening.edges.empty() &&
+               std::binary_search(supports.waistband_edges.begin(),
+                                  supports.waistband_edges.end(), opening.edges[0])) {
+      stiffness = settings.waistband_anchor_stiffness;
+    }
     for (int32_t v : opening.vertices) {
       if (tie_of[v] < 0) continue;
       const SkinTie& tie = ties_[tie_of[v]];
-      anchors_.push_back({v, tie.skin, tie.offset.y(),
-                          in_waistband[v] ? settings.waistband_anchor_stiffness
-                                          : settings.anchor_stiffness});
+      anchors_.push_back({v, tie.skin, tie.offset.y(), stiffness});
     }
   }
   hinge_weights_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.hinges.size()));

@@ -75,8 +75,8 @@ struct ClothSettings {
   // needs drapes that vary smoothly with the body (at 2e-4 a 0.1-sigma step moved some
   // vertices by 18 mm more than linearly, at 2e-3 by 3 mm).
   double bending_rigidity = 2e-3;
-  // Keeps a top opening's height on the body (relative to the skin point it started over),
-  // N/m: a collar on the neck. A waistband's is `waistband_anchor_stiffness`. A shirt's front
+  // Keeps a collar's height on the neck (relative to the skin point it started over; collars
+  // ring the neck, FindSupports), N/m. A waistband's is `waistband_anchor_stiffness`. A shirt's front
   // is longer than a shorter man's torso, and what soft compression it keeps pushes the collar
   // up his neck: at 20 N/m, as before the supports, male_casualsuit02's sat 1.5 cm above the
   // neck girth's landmarks on the mean avatar and 2.3 to 3.4 cm on the shortest men, standing
@@ -112,10 +112,10 @@ struct ClothSettings {
   // 0.66 without), and the waistband's anchor alone keeps the band up. Off by default.
   double tie_limit = 0;
   // With `waistband_stiffness` > 0 a waistband (the highest opening of trousers and skirts,
-  // WaistbandEdges) is elastic: its boundary edges carry an elastic of rest length
-  // `waistband_grip` times the size's, of that stiffness (N/m), the fabric along it gathers
-  // freely (no compression stiffness), and its height on the body is held by
-  // `waistband_anchor_stiffness` (N/m) instead of `anchor_stiffness`. The band's rest girth is
+  // round the torso: FindSupports) is elastic: its boundary edges carry an elastic of rest
+  // length `waistband_grip` times the size's, of that stiffness (N/m), and the fabric along it
+  // gathers freely (no compression stiffness). Its height on the body is held by
+  // `waistband_anchor_stiffness` (N/m), with the elastic or without. The band's rest girth is
   // then below the waists it fits, so it grips a slim and a broad waist alike. Not far below:
   // fabric gathered on an elastic half the band's length folds one way or another, and at 0.5
   // male_casualsuit03's drape jumped between nearby bodies (p99 16.6 mm at 0.1 sigma; 0.9 mm at
@@ -159,12 +159,14 @@ ClothSettings WithoutSupports(ClothSettings settings);
 class ClothSolver {
  public:
   // `start` (V x 3, m) on the body `body`; rest lengths per model.edges (m) and rest angles
-  // per model.hinges (rad); `waistband_edges`: ascending indices into model.edges that carry
-  // a waistband's elastic (ClothSettings::waistband_grip). The top openings (each piece's
-  // highest, model.openings) are anchored to the body surface nearest them on `body`.
+  // per model.hinges (rad); `supports`: its waistbands, whose edges carry the elastic
+  // (ClothSettings::waistband_grip), and collars (FindSupports). The top openings (each
+  // piece's highest, model.openings) are anchored to the body surface nearest them on `body`:
+  // waistbands at ClothSettings::waistband_anchor_stiffness, collars at anchor_stiffness, the
+  // others at kUnsupportedAnchorStiffness.
   ClothSolver(const ClothModel& model, const core::Positions& start, Eigen::VectorXd edge_rest,
-              Eigen::VectorXd hinge_rest, const std::vector<int32_t>& waistband_edges,
-              const core::TriangleBvh& body, const ClothSettings& settings);
+              Eigen::VectorXd hinge_rest, const Supports& supports, const core::TriangleBvh& body,
+              const ClothSettings& settings);
 
   // One step with the body as `body` now is (the caller refits it between steps): at most
   // ClothSettings::path_newton_iterations Newton iterations when the body moved since the

@@ -41,13 +41,22 @@ absl::Status ValidateInput(const DrapeInput& in) {
   if (!in.target_body.allFinite() || !in.mean_body.allFinite() || !in.start.allFinite()) {
     return absl::InvalidArgumentError("drape input has non-finite positions");
   }
-  for (size_t e = 0; e < in.waistband_edges.size(); ++e) {
-    const int32_t edge = in.waistband_edges[e];
-    if (edge < 0 || static_cast<size_t>(edge) >= in.model->edges.size() ||
-        (e > 0 && edge <= in.waistband_edges[e - 1])) {
-      return absl::InvalidArgumentError(
-          "waistband edges must be ascending indices of the garment's edges");
+  // Ascending indices below `count`.
+  auto ascending_below = [](const std::vector<int32_t>& indices, size_t count) {
+    for (size_t i = 0; i < indices.size(); ++i) {
+      if (indices[i] < 0 || static_cast<size_t>(indices[i]) >= count ||
+          (i > 0 && indices[i] <= indices[i - 1])) {
+        return false;
+      }
     }
+    return true;
+  };
+  if (!ascending_below(in.supports.waistband_edges, in.model->edges.size())) {
+    return absl::InvalidArgumentError(
+        "waistband edges must be ascending indices of the garment's edges");
+  }
+  if (!ascending_below(in.supports.collars, in.model->openings.size())) {
+    return absl::InvalidArgumentError("collars must be ascending indices of the garment's openings");
   }
   if (!in.regions.empty() && static_cast<Eigen::Index>(in.regions.size()) != n) {
     return absl::InvalidArgumentError("garment regions do not match its vertices");
@@ -62,8 +71,8 @@ absl::StatusOr<DrapeResult> Drape(const DrapeInput& in, const ClothSettings& set
   RETURN_IF_ERROR(ValidateInput(in));
   const auto start_time = std::chrono::steady_clock::now();
   ASSIGN_OR_RETURN(core::TriangleBvh body, core::TriangleBvh::Build(in.mean_body, in.body_triangles));
-  ClothSolver solver(*in.model, in.start, in.edge_rest, in.hinge_rest, in.waistband_edges,
-                     body, settings);
+  ClothSolver solver(*in.model, in.start, in.edge_rest, in.hinge_rest, in.supports, body,
+                     settings);
   DrapeResult result;
   for (int step = 1; step <= schedule.homotopy_steps; ++step) {
     const double t = static_cast<double>(step) / schedule.homotopy_steps;

@@ -30,8 +30,7 @@ struct DrapeInput {
   core::Positions start;       // The garment on the mean avatar (the template), V x 3, m.
   Eigen::VectorXd edge_rest;   // Per model->edges: the size's rest lengths, m.
   Eigen::VectorXd hinge_rest;  // Per model->hinges: the size's rest bending angles, rad.
-  // Ascending indices into model->edges carrying a waistband's elastic (WaistbandEdges).
-  std::vector<int32_t> waistband_edges;
+  Supports supports;  // Its waistbands and collars (FindSupports).
   std::vector<body::BodyRegion> regions;  // Per garment vertex, for the report (may be empty).
   core::Positions mean_body;   // 13,380 x 3, m: the body the template sits on.
   core::Positions target_body; // Same topology, m.

@@ -23,9 +23,10 @@ class DrapeTest : public ::testing::Test {
     auto model = BuildClothModel(tube_.positions, tube_.faces, 0.2);
     ASSERT_TRUE(model.ok());
     model_ = *std::move(model);
-    for (const Opening& opening : model_.openings) {
-      if (opening.highest_of_piece) top_ = opening;
+    for (size_t o = 0; o < model_.openings.size(); ++o) {
+      if (model_.openings[o].highest_of_piece) top_index_ = static_cast<int32_t>(o);
     }
+    top_ = model_.openings[top_index_];
   }
 
   DrapeInput Input(double target_scale, double rest_scale) const {
@@ -33,7 +34,7 @@ class DrapeTest : public ::testing::Test {
                       .start = tube_.positions,
                       .edge_rest = rest_scale * PairLengths(tube_.positions, model_.edges),
                       .hinge_rest = HingeAngles(tube_.positions, model_.hinges),
-                      .waistband_edges = top_.edges,
+                      .supports = {.waistband_edges = top_.edges, .collars = {}},
                       .regions = {},
                       .mean_body = mean_.positions,
                       .target_body = target_scale * mean_.positions,
@@ -48,7 +49,7 @@ class DrapeTest : public ::testing::Test {
     input.start = band.positions;
     input.edge_rest = rest_scale * PairLengths(band.positions, model.edges);
     input.hinge_rest = HingeAngles(band.positions, model.hinges);
-    input.waistband_edges.clear();
+    input.supports = {};
     return input;
   }
 
@@ -63,6 +64,7 @@ class DrapeTest : public ::testing::Test {
   core::Mesh tube_;
   ClothModel model_;
   Opening top_;
+  int32_t top_index_ = 0;
 };
 
 TEST_F(DrapeTest, RepeatedRunIsBitwiseIdentical) {
@@ -150,12 +152,12 @@ TEST_F(LongerBodyTest, TheSupportsHoldTheWaistbandAgainstUnlimitedStiction) {
 }
 
 TEST_F(LongerBodyTest, ACollarHoldsItsHeightWhereTheClothBelowPushesItUp) {
-  // The body below the ring grows 40% shorter instead, with no waistband: the ring is held as
-  // a collar is. The stiction carries the cloth below it up with the skin, and what the
+  // The body below the ring grows 40% shorter instead, and the ring is a collar, not a
+  // waistband. The stiction carries the cloth below it up with the skin, and what the
   // fabric resists being shortened pushes the ring up, as a shirt's front pushes its collar
   // up a shorter man's neck.
   DrapeInput shorter = BelowWaist(0.6);
-  shorter.waistband_edges.clear();
+  shorter.supports = {.waistband_edges = {}, .collars = {top_index_}};
   auto held = Drape(shorter);
   auto soft = Drape(shorter, WithoutSupports({}));
   ASSERT_TRUE(held.ok() && soft.ok());
@@ -164,11 +166,15 @@ TEST_F(LongerBodyTest, ACollarHoldsItsHeightWhereTheClothBelowPushesItUp) {
   EXPECT_LT(std::abs(BandHeight(*held)), 0.5 * std::abs(BandHeight(*soft)));
 }
 
-TEST_F(DrapeTest, RejectsWaistbandEdgesOutOfOrderOrRange) {
+TEST_F(DrapeTest, RejectsSupportsOutOfOrderOrRange) {
   DrapeInput input = Input(1.0, 1.0);
-  input.waistband_edges = {3, 2};
+  input.supports.waistband_edges = {3, 2};
   EXPECT_EQ(Drape(input).status().code(), absl::StatusCode::kInvalidArgument);
-  input.waistband_edges = {static_cast<int32_t>(model_.edges.size())};
+  input.supports.waistband_edges = {static_cast<int32_t>(model_.edges.size())};
+  EXPECT_EQ(Drape(input).status().code(), absl::StatusCode::kInvalidArgument);
+  input.supports = {.waistband_edges = {}, .collars = {top_index_, top_index_}};
+  EXPECT_EQ(Drape(input).status().code(), absl::StatusCode::kInvalidArgument);
+  input.supports.collars = {static_cast<int32_t>(model_.openings.size())};
   EXPECT_EQ(Drape(input).status().code(), absl::StatusCode::kInvalidArgument);
 }
 

@@ -20,8 +20,7 @@ double Mean(const std::vector<double>& values) {
 
 }  // namespace
 
-SupportHeights MeasureSupports(const ClothModel& model,
-                               const std::vector<int32_t>& waistband_edges,
+SupportHeights MeasureSupports(const ClothModel& model, const Supports& supports,
                                const core::Positions& mean_body, const core::Positions& positions,
                                const core::Positions& body) {
   using body::BodyLandmarks;
@@ -35,18 +34,20 @@ SupportHeights MeasureSupports(const ClothModel& model,
     return Mean(values);
   };
   const double crotch = mean_body(BodyLandmarks::kCrotch, 1);
-  const double underbust = mean_body(BodyLandmarks::kLeftUnderbust, 1);
   const double neck_base =
       0.5 * (body(BodyLandmarks::kNeckFront, 1) + body(BodyLandmarks::kNeckBack, 1));
   std::vector<double> waistbands, shares, collars, hems;
   const double rise = body(BodyLandmarks::kNavel, 1) - body(BodyLandmarks::kCrotch, 1);
-  for (const Opening& opening : model.openings) {
+  for (size_t o = 0; o < model.openings.size(); ++o) {
+    const Opening& opening = model.openings[o];
+    const auto& band = supports.waistband_edges;
     if (!opening.edges.empty() &&
-        std::binary_search(waistband_edges.begin(), waistband_edges.end(), opening.edges[0])) {
+        std::binary_search(band.begin(), band.end(), opening.edges[0])) {
       waistbands.push_back(mean_height(opening.vertices) - body(BodyLandmarks::kNavel, 1));
       if (rise > 0) shares.push_back(1 + waistbands.back() / rise);
     }
-    if (opening.highest_of_piece && opening.mean_height >= underbust) {
+    if (std::binary_search(supports.collars.begin(), supports.collars.end(),
+                           static_cast<int32_t>(o))) {
       collars.push_back(mean_height(opening.vertices) - neck_base);
     }
     if (!opening.highest_of_piece && opening.mean_height < crotch) {

@@ -66,16 +66,15 @@ struct SupportHeights {
   // band sits on a torso of any length, which the height in meters does not say (a band 11 cm
   // under the navel of the mean woman sits 14 cm under it on a torso 28% longer).
   std::optional<double> waistband_crotch_to_navel;
-  std::optional<double> collar_above_neck_base; // A top's highest opening (above the underbust).
+  std::optional<double> collar_above_neck_base;  // Collars' mean height (tops).
   // Openings below the crotch that are not a piece's highest (a shoe's): trouser legs' hems.
   std::optional<double> hem_above_ankle;
 };
 
-// model: the garment's cloth model; waistband_edges: WaistbandEdges of it; mean_body: the
-// body avatar the template sits on (13,380 x 3, m), which tells collars from other openings;
-// positions: the garment (V x 3, m) on `body` (13,380 x 3, m).
-SupportHeights MeasureSupports(const ClothModel& model,
-                               const std::vector<int32_t>& waistband_edges,
+// model: the garment's cloth model; supports: FindSupports of it; mean_body: the body avatar
+// the template sits on (13,380 x 3, m), which tells leg hems from other openings; positions:
+// the garment (V x 3, m) on `body` (13,380 x 3, m).
+SupportHeights MeasureSupports(const ClothModel& model, const Supports& supports,
                                const core::Positions& mean_body, const core::Positions& positions,
                                const core::Positions& body);
 

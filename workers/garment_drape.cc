@@ -27,7 +27,7 @@ struct PreparedGarment {
   core::Triangles body_triangles;
   Eigen::VectorXd edge_rest;
   Eigen::VectorXd hinge_rest;
-  std::vector<int32_t> waistband_edges;
+  Supports supports;
 };
 
 absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string_view size,
@@ -54,7 +54,7 @@ absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string
   const core::Positions& rest = g.template_mesh.mesh.positions;
   ASSIGN_OR_RETURN(g.model, BuildClothModel(rest, g.template_mesh.mesh.faces, areal_density));
   ASSIGN_OR_RETURN(g.regions, proto::RegionsFromProto(garment));
-  ASSIGN_OR_RETURN(g.waistband_edges, WaistbandEdges(g.model, g.mean_body));
+  ASSIGN_OR_RETURN(g.supports, FindSupports(g.model, rest, g.mean_body));
   if (garment_size->has_rest()) {
     ASSIGN_OR_RETURN(core::Mesh size_mesh, proto::MeshFromProto(garment_size->rest()));
     if (size_mesh.vertex_count() != rest.rows()) {
@@ -141,7 +141,7 @@ absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string
                    .start = g.template_mesh.mesh.positions,
                    .edge_rest = g.edge_rest,
                    .hinge_rest = g.hinge_rest,
-                   .waistband_edges = g.waistband_edges,
+                   .supports = g.supports,
                    .regions = g.regions,
                    .mean_body = g.mean_body,
                    .target_body = target_body,
@@ -149,7 +149,7 @@ absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string
   ASSIGN_OR_RETURN(DrapeResult drape, Drape(input, settings, schedule));
   GarmentFit fit{std::move(drape.positions), ReportOf(garment, size, "drape", drape.metrics)};
   SetSupports(
-      MeasureSupports(g.model, g.waistband_edges, g.mean_body, fit.positions, target_body),
+      MeasureSupports(g.model, g.supports, g.mean_body, fit.positions, target_body),
       &fit.report);
   fit.report.set_converged_max_move_mm(drape.converged_max_move_mm);
   fit.report.set_steps(static_cast<uint32_t>(drape.steps));
@@ -185,7 +185,7 @@ absl::StatusOr<GarmentFit> GeometricFit(const v1::Garment& garment, absl::string
   fit.report = ReportOf(garment, size, "geometric",
                         MeasureFit(fit.positions, g.model.edges, g.edge_rest, target_bvh, g.regions));
   SetSupports(
-      MeasureSupports(g.model, g.waistband_edges, g.mean_body, fit.positions, target_body),
+      MeasureSupports(g.model, g.supports, g.mean_body, fit.positions, target_body),
       &fit.report);
   fit.report.set_seconds(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -7,6 +7,12 @@
 
 namespace fitbase::workers {
 
+ClothSettings TemplateFitSettings() {
+  ClothSettings settings;
+  settings.anchor_stiffness = kUnsupportedAnchorStiffness;
+  return settings;
+}
+
 absl::StatusOr<core::Positions> FitTemplateToBody(const core::Positions& placed,
                                                   const core::Positions& rest,
                                                   const core::PolygonFaces& faces,
@@ -24,15 +30,15 @@ absl::StatusOr<core::Positions> FitTemplateToBody(const core::Positions& placed,
   ASSIGN_OR_RETURN(core::TriangleBvh bvh, core::TriangleBvh::Build(body, body_triangles));
   // The relaxation runs with friction and no skin ties, so trousers need their waistband to
   // stay up; a body without the avatar's landmarks (a test shape) has none.
-  std::vector<int32_t> waistband;
+  Supports supports;
   if (body.rows() == body::kBodyVertexCount) {
-    ASSIGN_OR_RETURN(waistband, WaistbandEdges(model, body));
+    ASSIGN_OR_RETURN(supports, FindSupports(model, placed, body));
   }
   ClothSolver pusher(model, placed, PairLengths(placed, model.edges),
-                     HingeAngles(placed, model.hinges), waistband, bvh, settings);
+                     HingeAngles(placed, model.hinges), supports, bvh, settings);
   pusher.ResolveCollisions(bvh, kTemplatePushSearch, settings.collision_offset);
   ClothSolver solver(model, pusher.positions(), PairLengths(rest, model.edges),
-                     HingeAngles(rest, model.hinges), waistband, bvh, settings);
+                     HingeAngles(rest, model.hinges), supports, bvh, settings);
   for (int step = 0; step < relax_steps; ++step) solver.Step(bvh);
   solver.ResolveCollisions(bvh, kTemplatePushSearch, settings.collision_offset);
   return solver.positions();

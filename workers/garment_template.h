@@ -12,6 +12,14 @@ namespace fitbase::workers {
 // body it was modelled on, and a vertex the drape let slip through stays within this.
 inline constexpr double kTemplatePushSearch = 0.08;
 
+// What a template is fitted with: ClothSettings's defaults, but collars held as softly as
+// before the supports (kUnsupportedAnchorStiffness). The relaxation starts from the binding's
+// placement, not from a drape, and a collar held at 200 N/m there left female_casualsuit02's
+// template so that its drapes jumped between nearby bodies (p99 of the second difference at
+// 0.1 sigma 12.6 mm, against 1.9 mm with the collar held softly; male_worksuit01 3.8 against
+// 2.6; fitbase_drape_bench --smoothness-only on fresh imports).
+ClothSettings TemplateFitSettings();
+
 // Turns a garment placed on the mean avatar into its template: every vertex pushed outside
 // the body by the collision offset, then relaxed under gravity for `relax_steps` towards the
 // edge lengths of `rest` (the garment's own shape). placed, rest: V x 3 (m); body: the mean
@@ -21,7 +29,8 @@ absl::StatusOr<core::Positions> FitTemplateToBody(const core::Positions& placed,
                                                   const core::PolygonFaces& faces,
                                                   const core::Positions& body,
                                                   const core::Triangles& body_triangles,
-                                                  const ClothSettings& settings = {},
+                                                  const ClothSettings& settings =
+                                                      TemplateFitSettings(),
                                                   int relax_steps = 10);
 
 }  // namespace fitbase::workers
