@@ -76,14 +76,15 @@ struct ClothSettings {
   // vertices by 18 mm more than linearly, at 2e-3 by 3 mm).
   double bending_rigidity = 2e-3;
   // Keeps a collar's height on the neck (relative to the skin point it started over; collars
-  // ring the neck, FindSupports), N/m. A waistband's is `waistband_anchor_stiffness`. A shirt's front
-  // is longer than a shorter man's torso, and what soft compression it keeps pushes the collar
-  // up his neck: at 20 N/m, as before the supports, male_casualsuit02's sat 1.5 cm above the
-  // neck girth's landmarks on the mean avatar and 2.3 to 3.4 cm on the shortest men, standing
-  // 3 cm off the nape. At 200 N/m, over the 2% tails, collars of sizes that fit stay within
-  // 0.7 to 1.2 cm of their height on the mean avatar (fitbase_drape_bench --supports). Its
-  // cost: male_casualsuit05's and male_worksuit01's drapes, whose collar and bib edge come into
-  // and out of contact, lose smoothness (p99 2.3 and 2.6 mm at 0.1 sigma, from 1.8 and 1.2).
+  // ring the neck, FindSupports), N/m. A waistband's is `waistband_anchor_stiffness`. A
+  // shirt's front is longer than a shorter man's torso, and what soft compression it keeps
+  // pushes the collar up his neck: at 20 N/m, as before the supports, male_casualsuit02's sat
+  // 1.5 cm above the neck girth's landmarks on the mean avatar and 2.3 to 3.4 cm on the
+  // shortest men, standing 3 cm off the nape. At 200 N/m, over the 2% tails, collars of sizes
+  // that fit stay within 0.6 to 1.0 cm of their height on the mean avatar (fitbase_drape_bench
+  // --supports). Its cost: male_worksuit01's T-shirt collar comes into and out of contact
+  // between nearby bodies (p99 2.6 mm at 0.1 sigma, 1.2 at 20 N/m; at 50 N/m it is 1.7 and
+  // female_casualsuit02's 2.1).
   double anchor_stiffness = 200;
   // Stiction, N/m per kg of cloth: each vertex is held, along the body surface only, to the
   // point of the skin it started over, as it moves with the body. Without it a frictionless
@@ -94,10 +95,11 @@ struct ClothSettings {
   // Supports for bodies far from the mean (README, "Bodies far from the mean"; issue "The drape
   // is true far from the mean"): an elastic waistband held at its height, below, and collars
   // held at theirs, above. On by default: without them a tall body's stiction drags leggings'
-  // bands 20 cm down the rise. Their cost: folds of fabric gathered on the elastic, or at a
-  // held collar, jump or kink between nearby bodies on 4 of the 12 shared garments (p99 2.3 to
-  // 3.8 mm at 0.1 sigma, all under 2 mm without). The fast fit learns the supported drapes no
-  // worse: kernel 5.41 mm against 5.54 at 100 samples, 4.08 against 4.08 at 400, with less
+  // bands 20 cm down the rise. Their cost: a held collar kinks between nearby bodies on 1 of
+  // the 12 shared garments (p99 2.6 mm at 0.1 sigma). Until the supports were only openings
+  // that ring the body (FindSupports), the open fronts of three jackets and shirts carried an
+  // elastic, and their drapes jumped (p99 3.7 to 20 mm). The fast fit learns the supported
+  // drapes no worse: kernel 5.41 mm against 5.54 at 100 samples, 4.08 against 4.08 at 400, with less
   // skin through the cloth (0.37% against 0.47%); with the collars held, 4.83 mm against 4.97
   // on four garments at 100 samples. WithoutSupports turns them off, to compare.
   // With `tie_limit` > 0 the stiction gives way like friction: its force grows with the slip
