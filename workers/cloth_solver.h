@@ -99,9 +99,9 @@ struct ClothSettings {
   // the 12 shared garments (p99 2.6 mm at 0.1 sigma). Until the supports were only openings
   // that ring the body (FindSupports), the open fronts of three jackets and shirts carried an
   // elastic, and their drapes jumped (p99 3.7 to 20 mm). The fast fit learns the supported
-  // drapes no worse: kernel 5.41 mm against 5.54 at 100 samples, 4.08 against 4.08 at 400, with less
-  // skin through the cloth (0.37% against 0.47%); with the collars held, 4.83 mm against 4.97
-  // on four garments at 100 samples. WithoutSupports turns them off, to compare.
+  // drapes no worse: kernel 5.41 mm against 5.54 at 100 samples, 4.08 against 4.08 at 400,
+  // with less skin through the cloth (0.37% against 0.47%); with the collars held, 4.83 mm
+  // against 4.97 on four garments at 100 samples. WithoutSupports turns them off, to compare.
   // With `tie_limit` > 0 the stiction gives way like friction: its force grows with the slip
   // up to `tie_limit` times the vertex's weight, then stays (a Huber energy). Unbounded, the
   // ties of a whole trouser leg drag the hems down with the ankles of a tall body and the

@@ -41,7 +41,6 @@ absl::Status ValidateInput(const DrapeInput& in) {
   if (!in.target_body.allFinite() || !in.mean_body.allFinite() || !in.start.allFinite()) {
     return absl::InvalidArgumentError("drape input has non-finite positions");
   }
-  // Ascending indices below `count`.
   auto ascending_below = [](const std::vector<int32_t>& indices, size_t count) {
     for (size_t i = 0; i < indices.size(); ++i) {
       if (indices[i] < 0 || static_cast<size_t>(indices[i]) >= count ||
@@ -56,7 +55,8 @@ absl::Status ValidateInput(const DrapeInput& in) {
         "waistband edges must be ascending indices of the garment's edges");
   }
   if (!ascending_below(in.supports.collars, in.model->openings.size())) {
-    return absl::InvalidArgumentError("collars must be ascending indices of the garment's openings");
+    return absl::InvalidArgumentError(
+        "collars must be ascending indices of the garment's openings");
   }
   if (!in.regions.empty() && static_cast<Eigen::Index>(in.regions.size()) != n) {
     return absl::InvalidArgumentError("garment regions do not match its vertices");

@@ -160,10 +160,14 @@ TEST_F(LongerBodyTest, ACollarHoldsItsHeightWhereTheClothBelowPushesItUp) {
   shorter.supports = {.waistband_edges = {}, .collars = {top_index_}};
   auto held = Drape(shorter);
   auto soft = Drape(shorter, WithoutSupports({}));
-  ASSERT_TRUE(held.ok() && soft.ok());
+  // Not a support (an open front, a button): held as softly as before the supports.
+  shorter.supports = {};
+  auto no_support = Drape(shorter);
+  ASSERT_TRUE(held.ok() && soft.ok() && no_support.ok());
   std::printf("collar height, mm: held %.2f, as softly as before the supports %.2f\n",
               1000 * BandHeight(*held), 1000 * BandHeight(*soft));
   EXPECT_LT(std::abs(BandHeight(*held)), 0.5 * std::abs(BandHeight(*soft)));
+  EXPECT_EQ(Hash(no_support->positions), Hash(soft->positions));
 }
 
 TEST_F(DrapeTest, RejectsSupportsOutOfOrderOrRange) {

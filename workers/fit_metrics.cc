@@ -38,9 +38,9 @@ SupportHeights MeasureSupports(const ClothModel& model, const Supports& supports
       0.5 * (body(BodyLandmarks::kNeckFront, 1) + body(BodyLandmarks::kNeckBack, 1));
   std::vector<double> waistbands, shares, collars, hems;
   const double rise = body(BodyLandmarks::kNavel, 1) - body(BodyLandmarks::kCrotch, 1);
+  const std::vector<int32_t>& band = supports.waistband_edges;
   for (size_t o = 0; o < model.openings.size(); ++o) {
     const Opening& opening = model.openings[o];
-    const auto& band = supports.waistband_edges;
     if (!opening.edges.empty() &&
         std::binary_search(band.begin(), band.end(), opening.edges[0])) {
       waistbands.push_back(mean_height(opening.vertices) - body(BodyLandmarks::kNavel, 1));
