@@ -151,6 +151,15 @@ Eigen::VectorXd PairLengths(const core::Positions& positions,
   return lengths;
 }
 
+bool Supports::IsWaistband(const Opening& opening) const {
+  return !opening.edges.empty() && std::binary_search(waistband_edges.begin(),
+                                                      waistband_edges.end(), opening.edges[0]);
+}
+
+bool Supports::IsCollar(int32_t opening) const {
+  return std::binary_search(collars.begin(), collars.end(), opening);
+}
+
 absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Positions& garment,
                                       const core::Positions& mean_body) {
   using body::BodyLandmarks;

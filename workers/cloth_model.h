@@ -50,6 +50,11 @@ struct Supports {
   std::vector<int32_t> waistband_edges;
   // Ascending indices into ClothModel::openings: collars, held at their height on the neck.
   std::vector<int32_t> collars;
+
+  // Whether `opening` (of the garment these are the supports of) is a waistband.
+  bool IsWaistband(const Opening& opening) const;
+  // Whether the garment's opening with this index is a collar.
+  bool IsCollar(int32_t opening) const;
 };
 
 // The supports of a garment whose template `garment` (V x 3, m) sits on `mean_body` (the

@@ -224,12 +224,9 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
     // Openings that ring nothing (an open front, a button) are held as every top opening was
     // before the supports.
     double stiffness = kUnsupportedAnchorStiffness;
-    if (std::binary_search(supports.collars.begin(), supports.collars.end(),
-                           static_cast<int32_t>(o))) {
+    if (supports.IsCollar(static_cast<int32_t>(o))) {
       stiffness = settings.anchor_stiffness;
-    } else if (!opening.edges.empty() &&
-               std::binary_search(supports.waistband_edges.begin(),
-                                  supports.waistband_edges.end(), opening.edges[0])) {
+    } else if (supports.IsWaistband(opening)) {
       stiffness = settings.waistband_anchor_stiffness;
     }
     for (int32_t v : opening.vertices) {

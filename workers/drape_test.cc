@@ -26,7 +26,6 @@ class DrapeTest : public ::testing::Test {
     for (size_t o = 0; o < model_.openings.size(); ++o) {
       if (model_.openings[o].highest_of_piece) top_index_ = static_cast<int32_t>(o);
     }
-    top_ = model_.openings[top_index_];
   }
 
   DrapeInput Input(double target_scale, double rest_scale) const {
@@ -34,7 +33,7 @@ class DrapeTest : public ::testing::Test {
                       .start = tube_.positions,
                       .edge_rest = rest_scale * PairLengths(tube_.positions, model_.edges),
                       .hinge_rest = HingeAngles(tube_.positions, model_.hinges),
-                      .supports = {.waistband_edges = top_.edges, .collars = {}},
+                      .supports = {.waistband_edges = top().edges, .collars = {}},
                       .regions = {},
                       .mean_body = mean_.positions,
                       .target_body = target_scale * mean_.positions,
@@ -53,6 +52,8 @@ class DrapeTest : public ::testing::Test {
     return input;
   }
 
+  const Opening& top() const { return model_.openings[top_index_]; }
+
   static std::string Hash(const core::Positions& p) {
     return core::ContentHash()
         .Add(absl::string_view(reinterpret_cast<const char*>(p.data()),
@@ -63,8 +64,7 @@ class DrapeTest : public ::testing::Test {
   core::Mesh mean_;
   core::Mesh tube_;
   ClothModel model_;
-  Opening top_;
-  int32_t top_index_ = 0;
+  int32_t top_index_ = 0;  // The tube's top ring, in model_.openings.
 };
 
 TEST_F(DrapeTest, RepeatedRunIsBitwiseIdentical) {
@@ -81,7 +81,7 @@ TEST_F(DrapeTest, NothingInsideTheBodyAndTopStaysPut) {
   EXPECT_EQ(result->metrics.penetration_below_1mm, 0.0);
   EXPECT_EQ(result->steps, DrapeSchedule{}.homotopy_steps + DrapeSchedule{}.relax_steps);
   // The waistband grips the waist it was put on, on a body 15% larger.
-  for (int32_t v : top_.vertices) EXPECT_NEAR(result->positions(v, 1), 0.0, 0.01);
+  for (int32_t v : top().vertices) EXPECT_NEAR(result->positions(v, 1), 0.0, 0.01);
 }
 
 TEST_F(DrapeTest, TheWaistbandsElasticGripsTheWaist) {
@@ -89,8 +89,8 @@ TEST_F(DrapeTest, TheWaistbandsElasticGripsTheWaist) {
   // (radius 0.12 plus the collision offset), where without one the top ring hangs as cut.
   auto band_radius = [&](const DrapeResult& r) {
     double sum = 0;
-    for (int32_t v : top_.vertices) sum += std::hypot(r.positions(v, 0), r.positions(v, 2));
-    return sum / static_cast<double>(top_.vertices.size());
+    for (int32_t v : top().vertices) sum += std::hypot(r.positions(v, 0), r.positions(v, 2));
+    return sum / static_cast<double>(top().vertices.size());
   };
   // The default grip lets a band up to 1 / 0.85 = 18% wider than the waist hang loose, and
   // this one is 18% wider.
@@ -118,8 +118,8 @@ class LongerBodyTest : public DrapeTest {
   DrapeInput Longer() const { return BelowWaist(1.4); }
   double BandHeight(const DrapeResult& r) const {
     double sum = 0;
-    for (int32_t v : top_.vertices) sum += r.positions(v, 1);
-    return sum / static_cast<double>(top_.vertices.size());
+    for (int32_t v : top().vertices) sum += r.positions(v, 1);
+    return sum / static_cast<double>(top().vertices.size());
   }
 };
 

@@ -38,16 +38,13 @@ SupportHeights MeasureSupports(const ClothModel& model, const Supports& supports
       0.5 * (body(BodyLandmarks::kNeckFront, 1) + body(BodyLandmarks::kNeckBack, 1));
   std::vector<double> waistbands, shares, collars, hems;
   const double rise = body(BodyLandmarks::kNavel, 1) - body(BodyLandmarks::kCrotch, 1);
-  const std::vector<int32_t>& band = supports.waistband_edges;
   for (size_t o = 0; o < model.openings.size(); ++o) {
     const Opening& opening = model.openings[o];
-    if (!opening.edges.empty() &&
-        std::binary_search(band.begin(), band.end(), opening.edges[0])) {
+    if (supports.IsWaistband(opening)) {
       waistbands.push_back(mean_height(opening.vertices) - body(BodyLandmarks::kNavel, 1));
       if (rise > 0) shares.push_back(1 + waistbands.back() / rise);
     }
-    if (std::binary_search(supports.collars.begin(), supports.collars.end(),
-                           static_cast<int32_t>(o))) {
+    if (supports.IsCollar(static_cast<int32_t>(o))) {
       collars.push_back(mean_height(opening.vertices) - neck_base);
     }
     if (!opening.highest_of_piece && opening.mean_height < crotch) {
