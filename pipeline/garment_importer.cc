@@ -21,7 +21,7 @@ namespace fitbase::pipeline {
 namespace {
 
 // Bump when import changes what a given source produces.
-constexpr absl::string_view kImportVersion = "fitbase-garment-import-v9";
+constexpr absl::string_view kImportVersion = "fitbase-garment-import-v10";
 // A garment placed on a body in meters fits in this box.
 constexpr double kMaxGarmentExtent = 3.0;
 

@@ -109,7 +109,7 @@ TEST_F(GarmentImporterTest, ContentsImportAsTheFilesTheyCameFrom) {
       core::ContentHash().Add(uploaded.obj.bytes).Add(uploaded.mhclo->bytes).HexDigest();
   EXPECT_EQ(from_contents->source().sha256(), sha256);
   EXPECT_EQ(from_contents->id(), core::ContentHash()
-                                     .Add("fitbase-garment-import-v9")
+                                     .Add("fitbase-garment-import-v10")
                                      .Add(basis_->id())
                                      .Add(sha256)
                                      .Add("M")

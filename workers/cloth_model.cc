@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 
@@ -25,8 +26,7 @@ int32_t Root(std::vector<int32_t>& parent, int32_t v) {
 }
 
 // Groups boundary edges into loops (components of the boundary-edge graph), each with its
-// piece (component of the triangle graph); marks each piece's loop with the highest mean
-// height.
+// piece (component of the triangle graph); marks each piece's loop with its highest vertex.
 std::vector<Opening> BoundaryLoops(const core::Positions& positions,
                                    const std::vector<Pair>& edges,
                                    const std::map<Pair, std::vector<int32_t>>& edge_faces,
@@ -68,14 +68,18 @@ std::vector<Opening> BoundaryLoops(const core::Positions& positions,
   for (int32_t e : boundary_edges) {
     openings[loop_index.at(Root(loop, edges[e][0]))].edges.push_back(e);
   }
-  std::map<int32_t, size_t> highest;  // piece -> opening
+  // By the highest vertex, not the mean height: a bib overall's top edge runs down its sides
+  // to the waist, and the buttonholes at the top of its bib are higher on average.
+  std::map<int32_t, std::pair<double, size_t>> highest;  // piece -> (top height, opening)
   for (size_t o = 0; o < openings.size(); ++o) {
     Opening& opening = openings[o];
     opening.mean_height /= static_cast<double>(opening.vertices.size());
-    const auto [it, added] = highest.try_emplace(opening.piece, o);
-    if (!added && opening.mean_height > openings[it->second].mean_height) it->second = o;
+    double top = -std::numeric_limits<double>::infinity();
+    for (int32_t v : opening.vertices) top = std::max(top, positions(v, 1));
+    const auto [it, added] = highest.try_emplace(opening.piece, top, o);
+    if (!added && top > it->second.first) it->second = {top, o};
   }
-  for (const auto& [p, o] : highest) openings[o].highest_of_piece = true;
+  for (const auto& [p, top] : highest) openings[top.second].highest_of_piece = true;
   return openings;
 }
 
@@ -160,6 +164,10 @@ bool Supports::IsCollar(int32_t opening) const {
   return std::binary_search(collars.begin(), collars.end(), opening);
 }
 
+bool Supports::IsStrap(int32_t opening) const {
+  return std::binary_search(straps.begin(), straps.end(), opening);
+}
+
 absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Positions& garment,
                                       const core::Positions& mean_body) {
   using body::BodyLandmarks;
@@ -198,7 +206,11 @@ absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Posit
     const Opening& opening = model.openings[o];
     if (!opening.highest_of_piece || opening.mean_height <= crotch) continue;
     if (opening.mean_height >= underbust) {
-      if (rings(opening, neck_axis)) supports.collars.push_back(static_cast<int32_t>(o));
+      if (!rings(opening, neck_axis)) continue;
+      double lowest = std::numeric_limits<double>::infinity();
+      for (int32_t v : opening.vertices) lowest = std::min(lowest, garment(v, 1));
+      (lowest >= underbust ? supports.collars : supports.straps)
+          .push_back(static_cast<int32_t>(o));
     } else if (rings(opening, torso_axis)) {
       supports.waistband_edges.insert(supports.waistband_edges.end(), opening.edges.begin(),
                                       opening.edges.end());

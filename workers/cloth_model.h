@@ -17,7 +17,8 @@ struct Opening {
   std::vector<int32_t> edges;     // Its boundary edges, ascending indices into ClothModel::edges.
   int32_t piece = 0;  // The connected piece of the garment it bounds, numbered from 0.
   double mean_height = 0;  // Of its vertices on the template, m.
-  // The highest opening of its piece: a waistband, a collar or a shoe's opening.
+  // The opening of its piece with the piece's highest vertex: a waistband, a collar, a bib
+  // overall's straps or a shoe's opening.
   bool highest_of_piece = false;
 };
 
@@ -50,11 +51,17 @@ struct Supports {
   std::vector<int32_t> waistband_edges;
   // Ascending indices into ClothModel::openings: collars, held at their height on the neck.
   std::vector<int32_t> collars;
+  // Ascending indices into ClothModel::openings: top edges that go round the neck over the
+  // shoulders but reach below the underbust (a bib overall's straps, bib and back), held at
+  // their height as collars are. Not a collar: the neck's figures would average in the bib.
+  std::vector<int32_t> straps;
 
   // Whether `opening` (of the garment these are the supports of) is a waistband.
   bool IsWaistband(const Opening& opening) const;
   // Whether the garment's opening with this index is a collar.
   bool IsCollar(int32_t opening) const;
+  // Whether the garment's opening with this index is a strap.
+  bool IsStrap(int32_t opening) const;
 };
 
 // The supports of a garment whose template `garment` (V x 3, m) sits on `mean_body` (the
@@ -62,10 +69,11 @@ struct Supports {
 // and rings the body: seen from above, it goes round the body's vertical axis. Between the
 // crotch and the underbust, round the torso's (through the crotch), it is a waistband:
 // trousers and skirts. Above the underbust, round the neck's (between the neck girth's
-// landmarks), it is a collar; a top hangs from the shoulders under it. An open jacket's front
-// edge, which runs down from the neck and back round the hem, a button, a buckle's hole and
-// a separate collar open at the front ring nothing; neither do shoes, below. INVALID_ARGUMENT
-// for a body of another vertex count or a garment of another vertex count than the model's.
+// landmarks), it is a collar if it stays above the underbust, else straps; a top hangs from
+// the shoulders under either. An open jacket's front edge, which runs down from the neck and
+// back round the hem, a button, a buckle's hole and a separate collar open at the front ring
+// nothing; neither do shoes, below. INVALID_ARGUMENT for a body of another vertex count or a
+// garment of another vertex count than the model's.
 absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Positions& garment,
                                       const core::Positions& mean_body);
 

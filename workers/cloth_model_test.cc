@@ -1,6 +1,7 @@
 #include "workers/cloth_model.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "body/body_measurements.h"
 #include "body/body_model.h"
@@ -140,6 +141,48 @@ TEST(FindSupportsTest, OnlyOpeningsRoundTheTorsoOrTheNeckHoldTheGarmentUp) {
   ASSERT_TRUE(supports.ok());
   EXPECT_EQ(supports->waistband_edges, band);
   EXPECT_EQ(supports->collars, std::vector<int32_t>{top_of_piece(3)});
+}
+
+TEST(FindSupportsTest, ABibOverallHangsFromItsStrapsNotFromAButtonhole) {
+  using body::BodyLandmarks;
+  core::Positions body = core::Positions::Zero(body::kBodyVertexCount, 3);
+  body.row(BodyLandmarks::kCrotch) << 0, 0, 0.02;
+  body.row(BodyLandmarks::kLeftUnderbust) << 0.1, 0.4, 0.1;
+  body.row(BodyLandmarks::kNeckFront) << 0, 0.6, 0.06;
+  body.row(BodyLandmarks::kNeckBack) << 0, 0.6, -0.04;
+  // A tube whose top edge is 0.62 m high in front and behind (bib and back) and 0.2 m at the
+  // sides, with a buttonhole near the top of the bib: one face of its second row from the top,
+  // in front (+z).
+  constexpr int kRows = 8, kSegments = 16;
+  core::Mesh overall = Tube(0.16, 0.0, 0.62, kRows, kSegments);
+  for (Eigen::Index v = 0; v < overall.positions.rows(); ++v) {
+    const double front_or_back = std::abs(overall.positions(v, 2)) / 0.16;
+    overall.positions(v, 1) *= (0.2 + 0.42 * front_or_back) / 0.62;
+  }
+  const int hole = (kRows - 2) * kSegments + 3 * kSegments / 4;
+  overall.faces.sizes.erase(overall.faces.sizes.begin() + hole);
+  overall.faces.indices.erase(overall.faces.indices.begin() + 4 * hole,
+                              overall.faces.indices.begin() + 4 * (hole + 1));
+  auto model = BuildClothModel(overall.positions, overall.faces, 0.2);
+  ASSERT_TRUE(model.ok()) << model.status();
+  // The hem, the buttonhole and the top edge, in the order of their lowest vertex index.
+  ASSERT_EQ(model->openings.size(), 3u);
+  const Opening& buttonhole = model->openings[1];
+  const Opening& top = model->openings[2];
+  ASSERT_EQ(buttonhole.vertices.size(), 4u);
+  // The buttonhole is higher on average; the top edge has the highest vertex.
+  ASSERT_GT(buttonhole.mean_height, top.mean_height);
+  EXPECT_TRUE(top.highest_of_piece);
+  EXPECT_FALSE(buttonhole.highest_of_piece);
+
+  auto supports = FindSupports(*model, overall.positions, body);
+  ASSERT_TRUE(supports.ok()) << supports.status();
+  // It goes round the neck but reaches below the underbust: straps, not a collar.
+  EXPECT_EQ(supports->straps, std::vector<int32_t>{2});
+  EXPECT_TRUE(supports->IsStrap(2));
+  EXPECT_FALSE(supports->IsStrap(1));
+  EXPECT_TRUE(supports->collars.empty());
+  EXPECT_TRUE(supports->waistband_edges.empty());
 }
 
 TEST(FindSupportsTest, RejectsABodyOrGarmentOfAnotherVertexCount) {

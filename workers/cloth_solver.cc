@@ -224,7 +224,8 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
     // Openings that ring nothing (an open front, a button) are held as every top opening was
     // before the supports.
     double stiffness = kUnsupportedAnchorStiffness;
-    if (supports.IsCollar(static_cast<int32_t>(o))) {
+    const int32_t index = static_cast<int32_t>(o);
+    if (supports.IsCollar(index) || supports.IsStrap(index)) {
       stiffness = settings.anchor_stiffness;
     } else if (supports.IsWaistband(opening)) {
       stiffness = settings.waistband_anchor_stiffness;

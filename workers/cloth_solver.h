@@ -75,16 +75,16 @@ struct ClothSettings {
   // needs drapes that vary smoothly with the body (at 2e-4 a 0.1-sigma step moved some
   // vertices by 18 mm more than linearly, at 2e-3 by 3 mm).
   double bending_rigidity = 2e-3;
-  // Keeps a collar's height on the neck (relative to the skin point it started over; collars
-  // ring the neck, FindSupports), N/m. A waistband's is `waistband_anchor_stiffness`. A
-  // shirt's front is longer than a shorter man's torso, and what soft compression it keeps
-  // pushes the collar up his neck: at 20 N/m, as before the supports, male_casualsuit02's sat
-  // 1.5 cm above the neck girth's landmarks on the mean avatar and 2.3 to 3.4 cm on the
-  // shortest men, standing 3 cm off the nape. At 200 N/m, over the 2% tails, collars of sizes
-  // that fit stay within 0.6 to 1.0 cm of their height on the mean avatar (fitbase_drape_bench
-  // --supports). Its cost: male_worksuit01's T-shirt collar comes into and out of contact
-  // between nearby bodies (p99 2.6 mm at 0.1 sigma, 1.2 at 20 N/m; at 50 N/m it is 1.7 and
-  // female_casualsuit02's 2.1).
+  // Keeps a collar's height on the neck, and a bib overall's straps' on the shoulders
+  // (relative to the skin point each vertex started over; both ring the neck, FindSupports),
+  // N/m. A waistband's is `waistband_anchor_stiffness`. A shirt's front is longer than a
+  // shorter man's torso, and what soft compression it keeps pushes the collar up his neck: at
+  // 20 N/m, as before the supports, male_casualsuit02's sat 1.5 cm above the neck girth's
+  // landmarks on the mean avatar and 2.3 to 3.4 cm on the shortest men, standing 3 cm off the
+  // nape. At 200 N/m, over the 2% tails, collars of sizes that fit stay within 0.6 to 1.0 cm of
+  // their height on the mean avatar (fitbase_drape_bench --supports). Its cost: the back of
+  // male_worksuit01's T-shirt comes into and out of contact between nearby bodies (p99 2.6 mm
+  // at 0.1 sigma, 1.2 at 20 N/m; at 50 N/m it is 1.7 and female_casualsuit02's 2.1).
   double anchor_stiffness = 200;
   // Stiction, N/m per kg of cloth: each vertex is held, along the body surface only, to the
   // point of the skin it started over, as it moves with the body. Without it a frictionless

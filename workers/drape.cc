@@ -58,6 +58,10 @@ absl::Status ValidateInput(const DrapeInput& in) {
     return absl::InvalidArgumentError(
         "collars must be ascending indices of the garment's openings");
   }
+  if (!ascending_below(in.supports.straps, in.model->openings.size())) {
+    return absl::InvalidArgumentError(
+        "straps must be ascending indices of the garment's openings");
+  }
   if (!in.regions.empty() && static_cast<Eigen::Index>(in.regions.size()) != n) {
     return absl::InvalidArgumentError("garment regions do not match its vertices");
   }

@@ -10,7 +10,7 @@ namespace fitbase::workers {
 namespace {
 
 // Bumped whenever the solver or the garment pipeline changes results for the same inputs.
-constexpr char kSimulatorVersion[] = "fitbase-newton-10";
+constexpr char kSimulatorVersion[] = "fitbase-newton-11";
 
 }  // namespace
 

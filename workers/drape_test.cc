@@ -33,7 +33,7 @@ class DrapeTest : public ::testing::Test {
                       .start = tube_.positions,
                       .edge_rest = rest_scale * PairLengths(tube_.positions, model_.edges),
                       .hinge_rest = HingeAngles(tube_.positions, model_.hinges),
-                      .supports = {.waistband_edges = top().edges, .collars = {}},
+                      .supports = {.waistband_edges = top().edges, .collars = {}, .straps = {}},
                       .regions = {},
                       .mean_body = mean_.positions,
                       .target_body = target_scale * mean_.positions,
@@ -157,13 +157,17 @@ TEST_F(LongerBodyTest, ACollarHoldsItsHeightWhereTheClothBelowPushesItUp) {
   // fabric resists being shortened pushes the ring up, as a shirt's front pushes its collar
   // up a shorter man's neck.
   DrapeInput shorter = BelowWaist(0.6);
-  shorter.supports = {.waistband_edges = {}, .collars = {top_index_}};
+  shorter.supports = {.waistband_edges = {}, .collars = {top_index_}, .straps = {}};
   auto held = Drape(shorter);
   auto soft = Drape(shorter, WithoutSupports({}));
+  // Straps (a bib overall's top edge) are held as a collar is.
+  shorter.supports = {.waistband_edges = {}, .collars = {}, .straps = {top_index_}};
+  auto strap = Drape(shorter);
   // Not a support (an open front, a button): held as softly as before the supports.
   shorter.supports = {};
   auto no_support = Drape(shorter);
-  ASSERT_TRUE(held.ok() && soft.ok() && no_support.ok());
+  ASSERT_TRUE(held.ok() && soft.ok() && strap.ok() && no_support.ok());
+  EXPECT_EQ(Hash(strap->positions), Hash(held->positions));
   std::printf("collar height, mm: held %.2f, as softly as before the supports %.2f\n",
               1000 * BandHeight(*held), 1000 * BandHeight(*soft));
   EXPECT_LT(std::abs(BandHeight(*held)), 0.5 * std::abs(BandHeight(*soft)));
@@ -176,9 +180,11 @@ TEST_F(DrapeTest, RejectsSupportsOutOfOrderOrRange) {
   EXPECT_EQ(Drape(input).status().code(), absl::StatusCode::kInvalidArgument);
   input.supports.waistband_edges = {static_cast<int32_t>(model_.edges.size())};
   EXPECT_EQ(Drape(input).status().code(), absl::StatusCode::kInvalidArgument);
-  input.supports = {.waistband_edges = {}, .collars = {top_index_, top_index_}};
+  input.supports = {.waistband_edges = {}, .collars = {top_index_, top_index_}, .straps = {}};
   EXPECT_EQ(Drape(input).status().code(), absl::StatusCode::kInvalidArgument);
   input.supports.collars = {static_cast<int32_t>(model_.openings.size())};
+  EXPECT_EQ(Drape(input).status().code(), absl::StatusCode::kInvalidArgument);
+  input.supports = {.waistband_edges = {}, .collars = {}, .straps = {-1}};
   EXPECT_EQ(Drape(input).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
