@@ -95,13 +95,20 @@ core::Mesh OpenInFront(core::Mesh tube, int segments) {
   return tube;
 }
 
-TEST(FindSupportsTest, OnlyOpeningsRoundTheTorsoOrTheNeckHoldTheGarmentUp) {
+// A body of only the landmarks FindSupports reads: the crotch at the origin, the underbust
+// 0.4 m and the neck girth 0.6 m above it.
+core::Positions LandmarksOnly() {
   using body::BodyLandmarks;
   core::Positions body = core::Positions::Zero(body::kBodyVertexCount, 3);
   body.row(BodyLandmarks::kCrotch) << 0, 0, 0.02;
   body.row(BodyLandmarks::kLeftUnderbust) << 0.1, 0.4, 0.1;
   body.row(BodyLandmarks::kNeckFront) << 0, 0.6, 0.06;
   body.row(BodyLandmarks::kNeckBack) << 0, 0.6, -0.04;
+  return body;
+}
+
+TEST(FindSupportsTest, OnlyOpeningsRoundTheTorsoOrTheNeckHoldTheGarmentUp) {
+  core::Positions body = LandmarksOnly();
   // Pieces in the order of their lowest vertex: trousers, a button on them, a jacket open in
   // front, a shirt's collar.
   core::Mesh garment;
@@ -136,7 +143,7 @@ TEST(FindSupportsTest, OnlyOpeningsRoundTheTorsoOrTheNeckHoldTheGarmentUp) {
   EXPECT_EQ(supports->collars, std::vector<int32_t>{top_of_piece(3)});
 
   // With the underbust lower, the jacket's loop is above it: no collar either.
-  body(BodyLandmarks::kLeftUnderbust, 1) = 0.28;
+  body(body::BodyLandmarks::kLeftUnderbust, 1) = 0.28;
   supports = FindSupports(*model, garment.positions, body);
   ASSERT_TRUE(supports.ok());
   EXPECT_EQ(supports->waistband_edges, band);
@@ -144,12 +151,7 @@ TEST(FindSupportsTest, OnlyOpeningsRoundTheTorsoOrTheNeckHoldTheGarmentUp) {
 }
 
 TEST(FindSupportsTest, ABibOverallHangsFromItsStrapsNotFromAButtonhole) {
-  using body::BodyLandmarks;
-  core::Positions body = core::Positions::Zero(body::kBodyVertexCount, 3);
-  body.row(BodyLandmarks::kCrotch) << 0, 0, 0.02;
-  body.row(BodyLandmarks::kLeftUnderbust) << 0.1, 0.4, 0.1;
-  body.row(BodyLandmarks::kNeckFront) << 0, 0.6, 0.06;
-  body.row(BodyLandmarks::kNeckBack) << 0, 0.6, -0.04;
+  const core::Positions body = LandmarksOnly();
   // A tube whose top edge is 0.62 m high in front and behind (bib and back) and 0.2 m at the
   // sides, with a buttonhole near the top of the bib: one face of its second row from the top,
   // in front (+z).
