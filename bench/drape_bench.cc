@@ -29,6 +29,7 @@
 #include <functional>
 #include <iostream>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "CLI/CLI.hpp"
@@ -39,12 +40,15 @@
 #include "body/body_measurements.h"
 #include "body/body_model.h"
 #include "body/population_calibration.h"
+#include "core/triangle_bvh.h"
 #include "pipeline/garment_importer.h"
 #include "pipeline/progress_reporter.h"
 #include "pipeline/skin_visibility.h"
 #include "proto/avatar_basis_codec.h"
+#include "proto/garment_codec.h"
 #include "proto/mesh_codec.h"
 #include "proto/message_file.h"
+#include "workers/cloth_model.h"
 #include "workers/fit_metrics.h"
 #include "workers/garment_drape.h"
 
@@ -321,6 +325,80 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
 
 bool IsMenswear(const v1::Garment& garment) { return absl::StartsWith(garment.name(), "male_"); }
 
+// Where a garment's waistbands and collars sit on the skin under them. The landmarks move
+// over the skin from one body to the next (on a heavy man the navel sinks towards the crotch),
+// so a band that keeps to its skin changes place on the rise. This follows the skin points
+// under the openings on the mean avatar's drape (the same triangle and barycentric point on
+// every body) and takes the openings' mean height above them.
+class SkinUnderSupports {
+ public:
+  // garment: as imported; mean_drape: its drape on its mean avatar (V x 3, m); triangles: the
+  // body's. An error when the garment message is inconsistent.
+  static absl::StatusOr<SkinUnderSupports> Of(const v1::Garment& garment,
+                                              const core::Positions& mean_drape,
+                                              const core::Triangles& triangles) {
+    auto mesh = proto::GarmentTemplateFromProto(garment);
+    if (!mesh.ok()) return mesh.status();
+    auto mean = proto::MeshFromProto(garment.mean_avatar());
+    if (!mean.ok()) return mean.status();
+    const core::Positions mean_body = mean->positions.topRows(body::kBodyVertexCount);
+    auto model = workers::BuildClothModel(mesh->mesh.positions, mesh->mesh.faces,
+                                          workers::ClothSettings().areal_density);
+    if (!model.ok()) return model.status();
+    auto supports = workers::FindSupports(*model, mesh->mesh.positions, mean_body);
+    if (!supports.ok()) return supports.status();
+    auto bvh = core::TriangleBvh::Build(mean_body, triangles);
+    if (!bvh.ok()) return bvh.status();
+    SkinUnderSupports skin;
+    for (size_t o = 0; o < model->openings.size(); ++o) {
+      const workers::Opening& opening = model->openings[o];
+      std::vector<Under>* under = supports->IsWaistband(opening) ? &skin.band_
+                                  : supports->IsCollar(static_cast<int32_t>(o)) ? &skin.collar_
+                                                                                 : nullptr;
+      if (under == nullptr) continue;
+      for (int32_t v : opening.vertices) {
+        const core::SurfacePoint hit = bvh->Closest(mean_drape.row(v).transpose(), 1.0);
+        if (hit.found) under->push_back({v, hit.triangle, hit.barycentric});
+      }
+    }
+    skin.triangles_ = triangles;
+    return skin;
+  }
+
+  // Mean height of the band's (collar's) vertices in `drape` above the skin under them on
+  // `body`, m; nullopt for a garment without one.
+  std::optional<double> BandAboveSkin(const core::Positions& drape,
+                                      const core::Positions& body) const {
+    return Above(band_, drape, body);
+  }
+  std::optional<double> CollarAboveSkin(const core::Positions& drape,
+                                        const core::Positions& body) const {
+    return Above(collar_, drape, body);
+  }
+
+ private:
+  struct Under {
+    int32_t vertex;
+    int32_t triangle;
+    Eigen::Vector3d barycentric;
+  };
+
+  std::optional<double> Above(const std::vector<Under>& under, const core::Positions& drape,
+                              const core::Positions& body) const {
+    if (under.empty()) return std::nullopt;
+    double sum = 0;
+    for (const Under& u : under) {
+      double skin = 0;
+      for (int c = 0; c < 3; ++c) skin += u.barycentric(c) * body(triangles_(u.triangle, c), 1);
+      sum += drape(u.vertex, 1) - skin;
+    }
+    return sum / static_cast<double>(under.size());
+  }
+
+  std::vector<Under> band_, collar_;
+  core::Triangles triangles_;
+};
+
 // The tallest, shortest and heaviest `tail` of `count` avatars of a calibrated preset (seed 1),
 // by the measurements the sampler calibrated them to.
 std::vector<Body> ExtremeBodies(const body::BodyModel& model,
@@ -430,19 +508,44 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
       "heaviest %d of 500 sampled avatars of the wearers' preset; worst |change| from the mean "
       "avatar's drape of the same size, cm (band_rise: the waistband's place as a share of the "
       "crotch-to-navel rise, in cm of the mean avatar's rise; rise_fit and collar_fit: the same "
-      "over the drapes not flagged too small); skin through the cloth (front and side, 600 px), "
-      "all drapes' pixels together and the worst drape\n",
+      "over the drapes not flagged too small; band_skin and collar_skin: the height above the "
+      "skin under it on the mean avatar, SkinUnderSupports, and the same not flagged); skin "
+      "through the cloth (front and side, 600 px), all drapes' pixels together and the worst "
+      "drape\n",
       extremes);
-  std::printf("%-22s %-4s %6s %8s %9s %9s %10s %10s %9s %8s %11s %10s %10s %7s\n", "garment",
-              "size", "drapes", "flagged", "pen<0mm", "pen<1mm", "waistband", "band_rise",
-              "rise_fit", "collar", "collar_fit", "skin_all", "skin_worst", "failed");
+  std::printf("%-22s %-4s %6s %8s %9s %9s %10s %10s %9s %10s %9s %8s %11s %12s %9s %10s "
+              "%10s %7s\n",
+              "garment", "size", "drapes", "flagged", "pen<0mm", "pen<1mm", "waistband",
+              "band_rise", "rise_fit", "band_skin", "skin_fit", "collar", "collar_fit",
+              "collar_skin", "skin_fit", "skin_all", "skin_worst", "failed");
   for (size_t g = 0; g < imported.size(); ++g) {
     for (const std::string& size : sizes) {
-      const v1::DrapeReport* mean = nullptr;
+      const Row* mean_row = nullptr;
       for (const Row& r : rows) {
-        if (r.garment == g && r.size == size && r.body.name == "mean" && r.fit.ok())
-          mean = &r.fit->report;
+        if (r.garment == g && r.size == size && r.body.name == "mean" && r.fit.ok()) mean_row = &r;
       }
+      const v1::DrapeReport* mean = mean_row != nullptr ? &mean_row->fit->report : nullptr;
+      std::optional<SkinUnderSupports> under;
+      std::optional<double> band_on_mean, collar_on_mean;
+      if (mean_row != nullptr) {
+        auto found = SkinUnderSupports::Of(imported[g], mean_row->fit->positions, triangles);
+        if (found.ok()) {
+          under = *std::move(found);
+          band_on_mean = under->BandAboveSkin(mean_row->fit->positions, mean_row->body.positions);
+          collar_on_mean =
+              under->CollarAboveSkin(mean_row->fit->positions, mean_row->body.positions);
+        }
+      }
+      // Worst |change| of a height above the skin from the mean avatar's, cm, over all drapes
+      // and over those not flagged too small.
+      double band_skin = -1, band_skin_fit = -1, collar_skin = -1, collar_skin_fit = -1;
+      auto skin_change = [](std::optional<double> here, std::optional<double> on_mean,
+                            bool fits, double* all, double* fit) {
+        if (!here || !on_mean) return;
+        const double change = 100 * std::abs(*here - *on_mean);
+        *all = std::max(*all, change);
+        if (fits) *fit = std::max(*fit, change);
+      };
       int count = 0, flagged = 0, failed = 0;
       double below0 = 0, below1 = 0, band = -1, band_share = -1, collar = -1, skin_worst = 0;
       double band_share_fit = -1, collar_fit = -1;  // Over the drapes not flagged.
@@ -455,6 +558,12 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
         }
         const v1::DrapeReport& report = r.fit->report;
         ++count;
+        if (under) {
+          skin_change(under->BandAboveSkin(r.fit->positions, r.body.positions), band_on_mean,
+                      !report.overstretched(), &band_skin, &band_skin_fit);
+          skin_change(under->CollarAboveSkin(r.fit->positions, r.body.positions),
+                      collar_on_mean, !report.overstretched(), &collar_skin, &collar_skin_fit);
+        }
         flagged += report.overstretched();
         below0 = std::max(below0, report.penetration_below_0mm());
         below1 = std::max(below1, report.penetration_below_1mm());
@@ -484,11 +593,13 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
       // crotch-to-navel rise.
       auto rise_cm = [&](double share) { return share < 0 ? -1 : share * 100 * mean_rise[g]; };
       std::printf(
-          "%-22s %-4s %6d %8d %8.3f%% %8.3f%% %10s %10s %9s %8s %11s %9.2f%% %9.2f%% %7d\n",
+          "%-22s %-4s %6d %8d %8.3f%% %8.3f%% %10s %10s %9s %10s %9s %8s %11s %12s %9s %9.2f%% "
+          "%9.2f%% %7d\n",
           imported[g].name().c_str(), size.c_str(), count, flagged, 100 * below0, 100 * below1,
           cm(band).c_str(), cm(rise_cm(band_share)).c_str(), cm(rise_cm(band_share_fit)).c_str(),
-          cm(collar).c_str(), cm(collar_fit).c_str(), 100 * skin.share(), 100 * skin_worst,
-          failed);
+          cm(band_skin).c_str(), cm(band_skin_fit).c_str(), cm(collar).c_str(),
+          cm(collar_fit).c_str(), cm(collar_skin).c_str(), cm(collar_skin_fit).c_str(),
+          100 * skin.share(), 100 * skin_worst, failed);
     }
   }
   std::printf(
