@@ -332,16 +332,15 @@ bool IsMenswear(const v1::Garment& garment) { return absl::StartsWith(garment.na
 // every body) and takes the openings' mean height above them.
 class SkinUnderSupports {
  public:
-  // garment: as imported; mean_drape: its drape on its mean avatar (V x 3, m); triangles: the
-  // body's. An error when the garment message is inconsistent.
+  // garment: as imported; mean_body: its mean avatar's body (13,380 x 3, m); mean_drape: its
+  // drape on it (V x 3, m); triangles: the body's. An error when the garment message is
+  // inconsistent.
   static absl::StatusOr<SkinUnderSupports> Of(const v1::Garment& garment,
+                                              const core::Positions& mean_body,
                                               const core::Positions& mean_drape,
                                               const core::Triangles& triangles) {
     auto mesh = proto::GarmentTemplateFromProto(garment);
     if (!mesh.ok()) return mesh.status();
-    auto mean = proto::MeshFromProto(garment.mean_avatar());
-    if (!mean.ok()) return mean.status();
-    const core::Positions mean_body = mean->positions.topRows(body::kBodyVertexCount);
     auto model = workers::BuildClothModel(mesh->mesh.positions, mesh->mesh.faces,
                                           workers::ClothSettings().areal_density);
     if (!model.ok()) return model.status();
@@ -528,7 +527,8 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
       std::optional<SkinUnderSupports> under;
       std::optional<double> band_on_mean, collar_on_mean;
       if (mean_row != nullptr) {
-        auto found = SkinUnderSupports::Of(imported[g], mean_row->fit->positions, triangles);
+        auto found = SkinUnderSupports::Of(imported[g], mean_row->body.positions,
+                                           mean_row->fit->positions, triangles);
         if (found.ok()) {
           under = *std::move(found);
           band_on_mean = under->BandAboveSkin(mean_row->fit->positions, mean_row->body.positions);
