@@ -15,6 +15,7 @@
 #include "proto/avatar_params_codec.h"
 #include "proto/garment_codec.h"
 #include "proto/mesh_codec.h"
+#include "workers/cloth_solver.h"
 #include "workers/garment_template.h"
 
 namespace fitbase::pipeline {
@@ -109,7 +110,10 @@ std::string SourceSha256(const GarmentImportRequest& request) {
 absl::StatusOr<std::string> GarmentImportId(absl::string_view basis_id,
                                             const GarmentImportRequest& request) {
   core::ContentHash id;
-  id.Add(kImportVersion).Add(basis_id).Add(SourceSha256(request));
+  // The template fit runs the cloth solver, so a solver that changes its results changes
+  // every import (a cache keyed without it served templates of an older solver).
+  id.Add(kImportVersion).Add(workers::kSimulatorVersion);
+  id.Add(basis_id).Add(SourceSha256(request));
   for (const std::string& size : request.sizes) {
     const auto mesh_file = request.size_meshes.find(size);
     if (mesh_file != request.size_meshes.end()) {

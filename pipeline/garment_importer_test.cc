@@ -14,6 +14,7 @@
 #include "gtest/gtest.h"
 #include "proto/avatar_params_codec.h"
 #include "proto/message_file.h"
+#include "workers/cloth_solver.h"
 
 namespace fitbase::pipeline {
 namespace {
@@ -110,6 +111,7 @@ TEST_F(GarmentImporterTest, ContentsImportAsTheFilesTheyCameFrom) {
   EXPECT_EQ(from_contents->source().sha256(), sha256);
   EXPECT_EQ(from_contents->id(), core::ContentHash()
                                      .Add("fitbase-garment-import-v10")
+                                     .Add(workers::kSimulatorVersion)
                                      .Add(basis_->id())
                                      .Add(sha256)
                                      .Add("M")

@@ -141,6 +141,11 @@ struct ClothSettings {
   Factorization factorization = Factorization::kSupernodalCholmod;
 };
 
+// Names what the solver computes: bumped whenever the solver or the drape pipeline changes
+// results for the same inputs. Drape keys carry it, and so do garment import ids, since the
+// import fits the garment to the mean avatar with this solver (FitTemplateToBody).
+inline constexpr char kSimulatorVersion[] = "fitbase-newton-11";
+
 // N/m holding collars and waistbands at their height without the supports.
 inline constexpr double kUnsupportedAnchorStiffness = 20;
 

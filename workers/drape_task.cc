@@ -7,13 +7,6 @@
 #include "workers/garment_drape.h"
 
 namespace fitbase::workers {
-namespace {
-
-// Bumped whenever the solver or the garment pipeline changes results for the same inputs.
-constexpr char kSimulatorVersion[] = "fitbase-newton-11";
-
-}  // namespace
-
 std::string SimulatorDescription(const ClothSettings& s, const DrapeSchedule& schedule) {
   return absl::StrFormat(
       "%s step=%.17g newton=%d tolerance=%.17g path_newton=%d gravity=%.17g density=%.17g "
