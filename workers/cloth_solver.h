@@ -128,6 +128,13 @@ struct ClothSettings {
   double waistband_grip = 0.85;
   double waistband_stiffness = 3000;
   double waistband_anchor_stiffness = 2000;
+  // Where that height is kept on an avatar. False: each band vertex over the skin point it
+  // started over, as collars are. True: the same, with the band as a whole shifted to keep its
+  // mean place on the crotch-to-navel rise, as on the body the drape starts on. The body
+  // model's skin slides over the landmarks from one body to the next (on a heavy man the navel
+  // sinks towards the crotch, and the skin under male_casualsuit02's band rises from 75% to
+  // 83% of his rise), and an elastic band grips at the waist, not at a point of the skin.
+  bool waistband_on_rise = true;
   // Contact: energy k/2 * depth^2 for a vertex `depth` inside the offset, N/m. Quadratic, so
   // that Newton resolves a contact in one iteration. Soft enough that the body's facets and
   // creases do not stall the line search (at 1e7 the drape changed by millimetres when the
@@ -144,7 +151,7 @@ struct ClothSettings {
 // Names what the solver computes: bumped whenever the solver or the drape pipeline changes
 // results for the same inputs. Drape keys carry it, and so do garment import ids, since the
 // import fits the garment to the mean avatar with this solver (FitTemplateToBody).
-inline constexpr char kSimulatorVersion[] = "fitbase-newton-11";
+inline constexpr char kSimulatorVersion[] = "fitbase-newton-12";
 
 // N/m holding collars and waistbands at their height without the supports.
 inline constexpr double kUnsupportedAnchorStiffness = 20;
@@ -169,8 +176,9 @@ class ClothSolver {
   // per model.hinges (rad); `supports`: its waistbands, whose edges carry the elastic
   // (ClothSettings::waistband_grip), and collars (FindSupports). The top openings (each
   // piece's highest, model.openings) are anchored to the body surface nearest them on `body`:
-  // waistbands at ClothSettings::waistband_anchor_stiffness, collars at anchor_stiffness, the
-  // others at kUnsupportedAnchorStiffness.
+  // waistbands at ClothSettings::waistband_anchor_stiffness (on an avatar, shifted with its
+  // rise: waistband_on_rise), collars and straps at anchor_stiffness, the others at
+  // kUnsupportedAnchorStiffness.
   ClothSolver(const ClothModel& model, const core::Positions& start, Eigen::VectorXd edge_rest,
               Eigen::VectorXd hinge_rest, const Supports& supports, const core::TriangleBvh& body,
               const ClothSettings& settings);
@@ -213,7 +221,10 @@ class ClothSolver {
     SkinPoint skin;
     double height_above;  // Vertex height minus the skin point's height, m.
     double stiffness;     // N/m.
+    int32_t band;         // Its index into band_shares_, or -1: held over its skin point alone.
   };
+  // How far each band of band_shares_ is shifted from over its skin points on `body`, m.
+  std::vector<double> BandShifts(const core::TriangleBvh& body) const;
   // A body vertex under a garment triangle: vertex-only contact lets a coarse triangle cut
   // through a convex body between its corners, so the triangle's point over the body vertex
   // (fixed barycentric coordinates) keeps a clearance too. Found when the body stops moving.
@@ -266,6 +277,9 @@ class ClothSolver {
   Eigen::VectorXd triangle_rest_areas_;  // Per model triangle, m^2.
   Eigen::VectorXd masses_;  // Per vertex, kg; 0 for vertices no face uses (they never move).
   std::vector<AnchorBinding> anchors_;
+  // Per waistband held on the rise (ClothSettings::waistband_on_rise): its anchored vertices'
+  // mean place on the crotch-to-navel rise (0 at the crotch, 1 at the navel) on the start body.
+  std::vector<double> band_shares_;
   std::vector<SkinTie> ties_;
   std::vector<bool> waistband_edge_;  // Per model edge.
   std::vector<Poke> pokes_;

@@ -66,6 +66,7 @@ v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedu
   proto.set_waistband_grip(s.waistband_grip);
   proto.set_waistband_stiffness(s.waistband_stiffness);
   proto.set_waistband_anchor_stiffness(s.waistband_anchor_stiffness);
+  proto.set_waistband_on_rise(s.waistband_on_rise);
   proto.set_factorization(s.factorization == Factorization::kSimplicialLdlt
                               ? v1::FACTORIZATION_SIMPLICIAL_LDLT
                               : v1::FACTORIZATION_SUPERNODAL_CHOLMOD);
@@ -124,6 +125,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
                             .waistband_grip = p.waistband_grip(),
                             .waistband_stiffness = p.waistband_stiffness(),
                             .waistband_anchor_stiffness = p.waistband_anchor_stiffness(),
+                            .waistband_on_rise = p.waistband_on_rise(),
                             .contact_stiffness = p.contact_stiffness(),
                             .collision_offset = p.collision_offset(),
                             .collision_search = p.collision_search(),

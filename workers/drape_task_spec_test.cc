@@ -29,7 +29,12 @@ TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   settings.path_newton_iterations = 7;
   settings.compression_stiffness = 150;
   settings.area_floor = 0.3;
+  settings.waistband_on_rise = false;
   const DrapeTask task = MakeDrapeTask(garment_, "XL", body_, settings, {7, 9});
+  // The key names every setting, this one too.
+  ClothSettings on_rise = settings;
+  on_rise.waistband_on_rise = true;
+  EXPECT_NE(task.key, MakeDrapeTask(garment_, "XL", body_, on_rise, {7, 9}).key);
   const v1::DrapeTaskSpec spec = DrapeTaskToSpec(task);
   absl::StatusOr<DrapeTask> parsed = DrapeTaskFromSpec(spec);
   ASSERT_TRUE(parsed.ok()) << parsed.status();
@@ -43,6 +48,7 @@ TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   EXPECT_EQ(back.settings.path_newton_iterations, 7);
   EXPECT_EQ(back.settings.compression_stiffness, 150);
   EXPECT_EQ(back.settings.area_floor, 0.3);
+  EXPECT_FALSE(back.settings.waistband_on_rise);
   EXPECT_EQ(back.schedule.homotopy_steps, 7);
   EXPECT_EQ(back.schedule.relax_steps, 9);
 }

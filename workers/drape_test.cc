@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "body/body_measurements.h"
+#include "body/body_model.h"
 #include "core/content_hash.h"
 #include "gtest/gtest.h"
 #include "workers/garment_template.h"
@@ -149,6 +151,38 @@ TEST_F(LongerBodyTest, TheSupportsHoldTheWaistbandAgainstUnlimitedStiction) {
   EXPECT_EQ(supports.tie_limit, 0);
   EXPECT_NEAR(BandHeight(*supported), 0.0, 0.003);
   EXPECT_LT(BandHeight(*held_softly), BandHeight(*supported) - 0.003);
+}
+
+TEST_F(LongerBodyTest, OnAnAvatarAWaistbandKeepsItsPlaceOnTheRiseAsTheSkinSlidesOverIt) {
+  // The hourglass as an avatar: padded to the avatar's vertex count, the padding in no
+  // triangle and far to the side, with the crotch 30 cm below the band and the navel 5 cm
+  // above it. On the target the landmarks move down 6 cm and the skin stays: the skin sliding
+  // over the landmarks, as it does between avatars.
+  DrapeInput input = Input(1.0, 1.0);
+  auto as_avatar = [](const core::Positions& body, double landmark_shift) {
+    core::Positions avatar = core::Positions::Constant(body::kBodyVertexCount, 3, 1.0);
+    avatar.topRows(body.rows()) = body;
+    avatar.row(body::BodyLandmarks::kCrotch) << 1.0, -0.30 + landmark_shift, 0.0;
+    avatar.row(body::BodyLandmarks::kNavel) << 1.0, 0.05 + landmark_shift, 0.0;
+    return avatar;
+  };
+  const core::Positions avatar = as_avatar(mean_.positions, 0.0);
+  const core::Positions slid_avatar = as_avatar(mean_.positions, -0.06);
+  input.mean_body = avatar;
+  input.target_body = slid_avatar;
+  auto slid = Drape(input);
+  input.target_body = avatar;
+  auto still = Drape(input);
+  ASSERT_TRUE(slid.ok() && still.ok()) << slid.status() << still.status();
+  // Where the band sits on the rise, 0 at the crotch and 1 at the navel.
+  auto share = [&](const DrapeResult& r, const core::Positions& body) {
+    const double crotch = body(body::BodyLandmarks::kCrotch, 1);
+    return (BandHeight(r) - crotch) / (body(body::BodyLandmarks::kNavel, 1) - crotch);
+  };
+  std::printf("band on the rise: %.4f with the landmarks still, %.4f moved 6 cm down\n",
+              share(*still, avatar), share(*slid, slid_avatar));
+  EXPECT_NEAR(share(*slid, slid_avatar), share(*still, avatar), 0.01);
+  EXPECT_NEAR(BandHeight(*slid), BandHeight(*still) - 0.06, 0.004);
 }
 
 TEST_F(LongerBodyTest, ACollarHoldsItsHeightWhereTheClothBelowPushesItUp) {
