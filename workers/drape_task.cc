@@ -7,6 +7,7 @@
 #include "workers/garment_drape.h"
 
 namespace fitbase::workers {
+
 std::string SimulatorDescription(const ClothSettings& s, const DrapeSchedule& schedule) {
   return absl::StrFormat(
       "%s step=%.17g newton=%d tolerance=%.17g path_newton=%d gravity=%.17g density=%.17g "
