@@ -469,8 +469,7 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
   for (size_t g = 0; g < imported.size(); ++g) {
     auto mean = proto::MeshFromProto(imported[g].mean_avatar());
     if (!mean.ok()) continue;
-    mean_rise[g] = mean->positions(body::BodyLandmarks::kNavel, 1) -
-                   mean->positions(body::BodyLandmarks::kCrotch, 1);
+    mean_rise[g] = workers::Rise(mean->positions);
     std::vector<Body> bodies = {{"mean", mean->positions.topRows(body::kBodyVertexCount)}};
     for (const Body& b : bench_bodies) {
       if (absl::StartsWith(b.name, "man") == IsMenswear(imported[g])) bodies.push_back(b);

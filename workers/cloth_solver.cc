@@ -10,6 +10,7 @@
 #include "body/body_measurements.h"
 #include "body/body_model.h"
 #include "core/dihedral_angle.h"
+#include "workers/fit_metrics.h"
 
 namespace fitbase::workers {
 namespace {
@@ -61,8 +62,7 @@ Eigen::Matrix3d SpringBlock(const Eigen::Vector3d& d, double length, double rest
 // The crotch-to-navel height of an avatar body (13,380 x 3, m); 0 for another body, which has
 // no such landmarks.
 double RiseOf(const core::Positions& body) {
-  if (body.rows() != body::kBodyVertexCount) return 0;
-  return body(body::BodyLandmarks::kNavel, 1) - body(body::BodyLandmarks::kCrotch, 1);
+  return body.rows() == body::kBodyVertexCount ? Rise(body) : 0;
 }
 
 }  // namespace

@@ -20,6 +20,10 @@ double Mean(const std::vector<double>& values) {
 
 }  // namespace
 
+double Rise(const core::Positions& avatar) {
+  return avatar(body::BodyLandmarks::kNavel, 1) - avatar(body::BodyLandmarks::kCrotch, 1);
+}
+
 SupportHeights MeasureSupports(const ClothModel& model, const Supports& supports,
                                const core::Positions& mean_body, const core::Positions& positions,
                                const core::Positions& body) {
@@ -37,7 +41,7 @@ SupportHeights MeasureSupports(const ClothModel& model, const Supports& supports
   const double neck_base =
       0.5 * (body(BodyLandmarks::kNeckFront, 1) + body(BodyLandmarks::kNeckBack, 1));
   std::vector<double> waistbands, shares, collars, hems;
-  const double rise = body(BodyLandmarks::kNavel, 1) - body(BodyLandmarks::kCrotch, 1);
+  const double rise = Rise(body);
   for (size_t o = 0; o < model.openings.size(); ++o) {
     const Opening& opening = model.openings[o];
     if (supports.IsWaistband(opening)) {

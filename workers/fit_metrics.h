@@ -71,6 +71,10 @@ struct SupportHeights {
   std::optional<double> hem_above_ankle;
 };
 
+// The rise of an avatar body (13,380 x 3, m): crotch to navel height, m. A waistband's place is
+// measured on it (MeasureSupports) and held on it (ClothSettings::waistband_on_rise).
+double Rise(const core::Positions& avatar);
+
 // model: the garment's cloth model; supports: FindSupports of it; mean_body: the body avatar
 // the template sits on (13,380 x 3, m), which tells leg hems from other openings; positions:
 // the garment (V x 3, m) on `body` (13,380 x 3, m).
