@@ -672,10 +672,26 @@ Eigen::Vector3d ClothSolver::PushOut(const core::TriangleBvh& body, const core::
   // Where the two sides touch (thighs at a short body's crotch) there is no room between
   // them: the way out is along the crease, between the two sides' normals.
   const Eigen::Vector3d along = hit.normal + facing;
-  if (along.norm() < kMinCreaseOpening) return best;
-  lift = settings_.collision_offset;
-  for (int doubling = 0; doubling < kMaxPushDoublings; ++doubling, lift *= 2) {
-    if (outside(hit.point + lift * along.normalized(), nullptr)) break;
+  if (along.norm() >= kMinCreaseOpening) {
+    lift = settings_.collision_offset;
+    for (int doubling = 0; doubling < kMaxPushDoublings; ++doubling, lift *= 2) {
+      if (outside(hit.point + lift * along.normalized(), nullptr)) return best;
+    }
+  }
+  // Where two parts of the body face each other closer than the least lift (a heavy man's
+  // upper arm 0.06 mm from his side), the way along the crease may lead further in, up into
+  // the armpit: then the point farthest outside at the shortest lift that leaves the body in
+  // any of 26 directions (a cube's faces, edges and corners).
+  for (lift = settings_.collision_offset; lift <= search; lift *= 2) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          outside(hit.point + lift * Eigen::Vector3d(dx, dy, dz).normalized(), nullptr);
+        }
+      }
+    }
+    if (best_distance > 0) return best;
   }
   return best;
 }

@@ -151,7 +151,7 @@ struct ClothSettings {
 // Names what the solver computes: bumped whenever the solver or the drape pipeline changes
 // results for the same inputs. Drape keys carry it, and so do garment import ids, since the
 // import fits the garment to the mean avatar with this solver (FitTemplateToBody).
-inline constexpr char kSimulatorVersion[] = "fitbase-newton-12";
+inline constexpr char kSimulatorVersion[] = "fitbase-newton-13";
 
 // N/m holding collars and waistbands at their height without the supports.
 inline constexpr double kUnsupportedAnchorStiffness = 20;
@@ -251,8 +251,9 @@ class ClothSolver {
   std::vector<Poke> FindPokes(const core::TriangleBvh& body);
   // Where a vertex inside the body, nearest `hit` on its surface, is put (m): at the collision
   // offset along the surface normal; nearer the surface where that point is inside another
-  // part of the body; out along the crease where the two parts touch. The point tried that is
-  // farthest outside when none is.
+  // part of the body; out along the crease where the two parts touch; else the nearest way out
+  // in any direction, up to `search` away. The point tried that is farthest outside when none
+  // is.
   Eigen::Vector3d PushOut(const core::TriangleBvh& body, const core::SurfacePoint& hit,
                           double search) const;
   // With `derivatives` false only the energy is computed (for the line search).

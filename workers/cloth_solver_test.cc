@@ -65,6 +65,46 @@ TEST(ClothSolverTest, PushOutLeavesACreaseWhoseSidesTouchAlongIt) {
   EXPECT_GT(PushedDistance(body, inside), 0);
 }
 
+// Two boxes facing each other across x = 0, `gap` apart, each 10 mm deep and 15 mm square.
+core::TriangleBvh TwoFacingBoxes(double gap) {
+  constexpr double kDepth = 0.01, kHalfSide = 0.0075;
+  const int32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                               {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  core::Positions positions(16, 3);
+  core::Triangles triangles(24, 3);
+  for (int box = 0; box < 2; ++box) {
+    const double x0 = box == 0 ? -gap / 2 - kDepth : gap / 2;
+    for (int c = 0; c < 8; ++c) {
+      positions.row(8 * box + c) << x0 + ((c & 4) ? kDepth : 0), (c & 2) ? kHalfSide : -kHalfSide,
+          (c & 1) ? kHalfSide : -kHalfSide;
+    }
+    for (int q = 0; q < 6; ++q) {
+      const int32_t o = 8 * box;
+      triangles.row(12 * box + 2 * q) << o + quads[q][0], o + quads[q][2], o + quads[q][1];
+      triangles.row(12 * box + 2 * q + 1) << o + quads[q][0], o + quads[q][3], o + quads[q][2];
+    }
+  }
+  return *core::TriangleBvh::Build(positions, triangles);
+}
+
+TEST(ClothSolverTest, PushOutLeavesACreaseTooNarrowToFitInWhoseSidesFaceSquarely) {
+  // As under a heavy man's arm: the sides 0.05 mm apart, narrower than the least lift, and
+  // facing each other squarely, so that no way leads out along the crease.
+  const core::TriangleBvh body = TwoFacingBoxes(0.00005);
+  const Eigen::RowVector3d inside(-0.000125, 0.001, 0.002);
+  const core::SurfacePoint hit = body.Closest(inside.transpose(), 0.05);
+  ASSERT_LT(hit.signed_distance, 0);
+  const double offset = ClothSettings{}.collision_offset;
+  for (double lift = offset; lift > 1e-4; lift /= 2) {
+    ASSERT_LT(body.Closest(hit.point + lift * hit.normal, 0.05).signed_distance, 0) << lift;
+  }
+  const Eigen::Vector3d facing = body.Closest(hit.point + offset * hit.normal, 0.05).normal;
+  ASSERT_LT((hit.normal + facing).norm(), 0.05);
+  const double pushed = PushedDistance(body, inside);
+  EXPECT_GT(pushed, 0);
+  EXPECT_LT(pushed, 0.02);
+}
+
 // How far the apex of an upright triangle standing on the floor sinks under its own weight,
 // m: only its two compressed edges hold it up.
 double UprightTriangleSag(const ClothSettings& settings) {
