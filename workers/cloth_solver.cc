@@ -76,26 +76,28 @@ Eigen::Vector3d ClothSolver::OnSkin(const core::TriangleBvh& body, const SkinPoi
   return point;
 }
 
-std::vector<double> ClothSolver::BandShifts(const core::TriangleBvh& body) const {
+void ClothSolver::HoldAnchors(const core::TriangleBvh& body) {
   // A band's anchors keep their heights over their skin points, and the band as a whole is
   // shifted to keep its mean place on the rise. Held on the rise vertex by vertex, a band
   // ignored how the skin under it moves (the belly's against the back's) and fought the
   // stiction of the cloth below it: female_casualsuit02's shorts slid 4 mm sideways between
   // bodies 0.1 sigma apart (second difference p99 5.0 mm; 0.76 mm shifted as a whole).
-  std::vector<double> shifts(band_shares_.size(), 0.0);
+  anchor_over_skin_.resize(anchors_.size());
+  band_shifts_.assign(band_shares_.size(), 0.0);
   std::vector<int> counts(band_shares_.size(), 0);
-  for (const AnchorBinding& a : anchors_) {
+  for (size_t i = 0; i < anchors_.size(); ++i) {
+    const AnchorBinding& a = anchors_[i];
+    anchor_over_skin_[i] = OnSkin(body, a.skin).y() + a.height_above;
     if (a.band < 0) continue;
-    shifts[a.band] -= OnSkin(body, a.skin).y() + a.height_above;
+    band_shifts_[a.band] -= anchor_over_skin_[i];
     ++counts[a.band];
   }
   const core::Positions& p = body.positions();
-  for (size_t b = 0; b < shifts.size(); ++b) {
+  for (size_t b = 0; b < band_shifts_.size(); ++b) {
     if (counts[b] == 0) continue;
-    shifts[b] = shifts[b] / counts[b] + p(body::BodyLandmarks::kCrotch, 1) +
-                band_shares_[b] * RiseOf(p);
+    band_shifts_[b] = band_shifts_[b] / counts[b] + p(body::BodyLandmarks::kCrotch, 1) +
+                      band_shares_[b] * RiseOf(p);
   }
-  return shifts;
 }
 
 // Where the 3 x 3 blocks the solver writes sit in the values the factorisation takes: one block
@@ -306,6 +308,7 @@ double ClothSolver::Step(const core::TriangleBvh& body) {
   const bool body_moved =
       body.positions().rows() != last_body_.rows() || body.positions() != last_body_;
   if (body_moved) last_body_ = body.positions();
+  HoldAnchors(body);
   // Pokes are found once the body has come to rest (a step on the previous step's body), and
   // kept: a contact set found anew at every step of a moving body makes the path, and so the
   // result, depend on the step count.
@@ -384,10 +387,10 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
   AddSprings(x, derivatives, out);
   AddBending(x, derivatives, out);
   AddAreaFloor(x, derivatives, out);
-  const std::vector<double> band_shifts = BandShifts(body);
-  for (const AnchorBinding& a : anchors_) {
-    const double over_skin = OnSkin(body, a.skin).y() + a.height_above;
-    const double c = x(a.vertex, 1) - over_skin - (a.band >= 0 ? band_shifts[a.band] : 0.0);
+  for (size_t i = 0; i < anchors_.size(); ++i) {
+    const AnchorBinding& a = anchors_[i];
+    const double c =
+        x(a.vertex, 1) - anchor_over_skin_[i] - (a.band >= 0 ? band_shifts_[a.band] : 0.0);
     out->energy += 0.5 * a.stiffness * c * c;
     if (!derivatives) continue;
     out->gradient(3 * a.vertex + 1) += a.stiffness * c;

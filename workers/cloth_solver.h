@@ -223,8 +223,9 @@ class ClothSolver {
     double stiffness;     // N/m.
     int32_t band;         // Its index into band_shares_, or -1: held over its skin point alone.
   };
-  // How far each band of band_shares_ is shifted from over its skin points on `body`, m.
-  std::vector<double> BandShifts(const core::TriangleBvh& body) const;
+  // Sets where the anchors are held on `body`, the body of this step: anchor_over_skin_ and
+  // band_shifts_.
+  void HoldAnchors(const core::TriangleBvh& body);
   // A body vertex under a garment triangle: vertex-only contact lets a coarse triangle cut
   // through a convex body between its corners, so the triangle's point over the body vertex
   // (fixed barycentric coordinates) keeps a clearance too. Found when the body stops moving.
@@ -281,6 +282,11 @@ class ClothSolver {
   // Per waistband held on the rise (ClothSettings::waistband_on_rise): its anchored vertices'
   // mean place on the crotch-to-navel rise (0 at the crotch, 1 at the navel) on the start body.
   std::vector<double> band_shares_;
+  // On the body of the current step (HoldAnchors), which every evaluation of the step shares:
+  // per anchors_, the height over its skin point it is held at, m; per band_shares_, how far
+  // the band is shifted from over its skin points, m.
+  std::vector<double> anchor_over_skin_;
+  std::vector<double> band_shifts_;
   std::vector<SkinTie> ties_;
   std::vector<bool> waistband_edge_;  // Per model edge.
   std::vector<Poke> pokes_;
