@@ -98,6 +98,15 @@ void ClothSolver::HoldAnchors(const core::TriangleBvh& body) {
     band_shifts_[b] = band_shifts_[b] / counts[b] + p(body::BodyLandmarks::kCrotch, 1) +
                       band_shares_[b] * RiseOf(p);
   }
+  tie_holds_.resize(ties_.size());
+  for (size_t i = 0; i < ties_.size(); ++i) {
+    const SkinTie& tie = ties_[i];
+    const auto tri = body.triangles().row(tie.skin.triangle);
+    const Eigen::Vector3d a = p.row(tri(0)).transpose();
+    tie_holds_[i].normal =
+        (p.row(tri(1)).transpose() - a).cross(p.row(tri(2)).transpose() - a).normalized();
+    tie_holds_[i].target = OnSkin(body, tie.skin) + tie.offset;
+  }
 }
 
 // Where the 3 x 3 blocks the solver writes sit in the values the factorisation takes: one block
@@ -400,17 +409,14 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
   }
   // The slip at which a tie reaches its limit (ClothSettings::tie_limit), m.
   const double yield = settings_.tie_limit * settings_.gravity / settings_.skin_tie;
-  for (const SkinTie& tie : ties_) {
-    const auto tri = body.triangles().row(tie.skin.triangle);
-    const Eigen::Vector3d a = body.positions().row(tri(0)).transpose();
-    const Eigen::Vector3d normal = (body.positions().row(tri(1)).transpose() - a)
-                                       .cross(body.positions().row(tri(2)).transpose() - a)
-                                       .normalized();
+  for (size_t i = 0; i < ties_.size(); ++i) {
+    const SkinTie& tie = ties_[i];
+    const Eigen::Vector3d& normal = tie_holds_[i].normal;
     const Eigen::Matrix3d tangential =
         Eigen::Matrix3d::Identity() - normal * normal.transpose();
     const double k = settings_.skin_tie * masses_(tie.vertex);
-    const Eigen::Vector3d target = OnSkin(body, tie.skin) + tie.offset;
-    const Eigen::Vector3d slip = tangential * (x.row(tie.vertex).transpose() - target);
+    const Eigen::Vector3d slip =
+        tangential * (x.row(tie.vertex).transpose() - tie_holds_[i].target);
     // Up to the yield slip the tie is a spring, beyond it a constant force against the slip.
     const double s = slip.norm();
     if (settings_.tie_limit == 0 || s <= yield) {

@@ -223,8 +223,8 @@ class ClothSolver {
     double stiffness;     // N/m.
     int32_t band;         // Its index into band_shares_, or -1: held over its skin point alone.
   };
-  // Sets where the anchors are held on `body`, the body of this step: anchor_over_skin_ and
-  // band_shifts_.
+  // Sets where the anchors and ties are held on `body`, the body of this step:
+  // anchor_over_skin_, band_shifts_ and tie_holds_.
   void HoldAnchors(const core::TriangleBvh& body);
   // A body vertex under a garment triangle: vertex-only contact lets a coarse triangle cut
   // through a convex body between its corners, so the triangle's point over the body vertex
@@ -288,6 +288,13 @@ class ClothSolver {
   std::vector<double> anchor_over_skin_;
   std::vector<double> band_shifts_;
   std::vector<SkinTie> ties_;
+  // Per ties_, on the body of the current step (HoldAnchors): where the tie pulls its vertex
+  // and the normal of the skin under it, m.
+  struct TieHold {
+    Eigen::Vector3d target;
+    Eigen::Vector3d normal;
+  };
+  std::vector<TieHold> tie_holds_;
   std::vector<bool> waistband_edge_;  // Per model edge.
   std::vector<Poke> pokes_;
   std::optional<core::TriangleBvh> garment_bvh_;
