@@ -2,6 +2,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,9 +34,16 @@ const std::vector<Eigen::Vector3d> kGarmentColors = {
     {0.95, 0.55, 0.05}, {0.60, 0.20, 0.75}, {0.05, 0.70, 0.75},
 };
 
+// Where the picture marks the skin that shows where the reference garment shows cloth: the
+// body through the cloth, and a line along the reference's edges (its hem or neckline elsewhere).
+const Eigen::Vector3d kInsideSkinColor(1.0, 0.0, 1.0);
+const Eigen::Vector3d kEdgeSkinColor(1.0, 0.85, 0.0);
+
 struct RenderFlags {
   std::string body;
   std::vector<std::string> garments;
+  std::string reference_garment;
+  std::string reference_body;
   std::string values;
   std::string range;
   int height = 600;
@@ -89,6 +97,50 @@ absl::StatusOr<Eigen::VectorXd> ReadValues(const std::string& path) {
   return Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size()));
 }
 
+// The visible skin of the garment on --body where --reference-garment on its body shows cloth,
+// printed, and where it is, for MarkSkin.
+absl::StatusOr<pipeline::SkinPicture> MeasureAgainstReference(const RenderFlags& flags,
+                                                               const core::Mesh& body,
+                                                               const core::Mesh& garment) {
+  core::Mesh reference_body = body;
+  if (!flags.reference_body.empty()) {
+    absl::StatusOr<core::Mesh> read = core::ReadObj(flags.reference_body);
+    if (!read.ok()) return Flagged("--reference-body", read.status());
+    reference_body = *std::move(read);
+  }
+  absl::StatusOr<core::GarmentMesh> reference = core::ReadGarmentObj(flags.reference_garment);
+  if (!reference.ok()) return Flagged("--reference-garment", reference.status());
+  const core::Triangles body_triangles = core::Triangulate(body.faces);
+  const core::Triangles garment_triangles = core::Triangulate(garment.faces);
+  const core::Triangles reference_body_triangles = core::Triangulate(reference_body.faces);
+  const core::Triangles reference_triangles = core::Triangulate(reference->mesh.faces);
+  pipeline::SkinPicture picture;
+  ASSIGN_OR_RETURN(
+      const pipeline::SkinVisibility skin,
+      pipeline::MeasureVisibleSkin(
+          {&reference_body.positions, &reference_body_triangles, &reference->mesh.positions,
+           &reference_triangles},
+          {&body.positions, &body_triangles, &garment.positions, &garment_triangles},
+          flags.height, &picture));
+  std::cout << absl::StrFormat(
+      "visible skin against %s: %.2f%% of its %d cloth pixels, %.2f%% inside the cloth (more "
+      "than %.0f mm from its edges; magenta), the rest along its edges (yellow)\n",
+      flags.reference_garment, 100 * skin.share(), skin.cloth_pixels, 100 * skin.inside_share(),
+      1000 * pipeline::kClothEdgeBand);
+  return picture;
+}
+
+void MarkSkin(const pipeline::SkinPicture& picture, core::RenderedImage& image) {
+  for (size_t i = 0; i < picture.pixels.size(); ++i) {
+    if (picture.pixels[i] == pipeline::SkinPixel::kNone) continue;
+    const Eigen::Vector3d& color =
+        picture.pixels[i] == pipeline::SkinPixel::kInside ? kInsideSkinColor : kEdgeSkinColor;
+    for (int c = 0; c < 3; ++c) {
+      image.rgb[3 * i + c] = static_cast<uint8_t>(std::lround(255 * color[c]));
+    }
+  }
+}
+
 absl::Status RunRender(const RenderFlags& flags) {
   if (flags.height < kMinHeight || flags.height > kMaxHeight) {
     return absl::InvalidArgumentError(
@@ -100,9 +152,24 @@ absl::Status RunRender(const RenderFlags& flags) {
   if (!flags.values.empty() && flags.garments.empty()) {
     return absl::InvalidArgumentError("--values colours the first --garment; none was given");
   }
+  if (!flags.reference_body.empty() && flags.reference_garment.empty()) {
+    return absl::InvalidArgumentError(
+        "--reference-body is the body of --reference-garment; give that garment too");
+  }
+  if (!flags.reference_garment.empty() && flags.garments.size() != 1) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--reference-garment is compared with one --garment; ", flags.garments.size(),
+        " were given"));
+  }
   RETURN_IF_ERROR(RequireFile("--body", flags.body));
   for (const std::string& garment : flags.garments) {
     RETURN_IF_ERROR(RequireFile("--garment", garment));
+  }
+  if (!flags.reference_garment.empty()) {
+    RETURN_IF_ERROR(RequireFile("--reference-garment", flags.reference_garment));
+  }
+  if (!flags.reference_body.empty()) {
+    RETURN_IF_ERROR(RequireFile("--reference-body", flags.reference_body));
   }
 
   std::vector<core::RenderLayer> layers(1);
@@ -136,7 +203,14 @@ absl::Status RunRender(const RenderFlags& flags) {
 
   core::RenderOptions options;
   options.height = flags.height;
-  ASSIGN_OR_RETURN(const core::RenderedImage image, core::RenderFrontAndSide(layers, options));
+  std::optional<pipeline::SkinPicture> skin_picture;
+  if (!flags.reference_garment.empty()) {
+    ASSIGN_OR_RETURN(skin_picture,
+                     MeasureAgainstReference(flags, layers[0].mesh, layers[1].mesh));
+    options.frame = skin_picture->frame;
+  }
+  ASSIGN_OR_RETURN(core::RenderedImage image, core::RenderFrontAndSide(layers, options));
+  if (skin_picture.has_value()) MarkSkin(*skin_picture, image);
   RETURN_IF_ERROR(pipeline::WritePng(flags.out, image.width, image.height, image.rgb));
   std::cout << absl::StrFormat("wrote %s (%dx%d: front view, side view from +X%s)\n", flags.out,
                                image.width, image.height, flags.values.empty() ? "" : ", legend");
@@ -177,6 +251,12 @@ void AddRenderCommand(CLI::App& app, CliContext& context) {
       app.add_subcommand("render", "Front and side pictures (PNG) of a body and its garments");
   render->add_option("--body", flags->body, "Body OBJ (meters, +Y up, +Z front)")->required();
   render->add_option("--garment", flags->garments, "Garment OBJ, drawn over the body (repeatable)");
+  render->add_option("--reference-garment", flags->reference_garment,
+                     "Garment OBJ the --garment is judged against (e.g. the drape): the skin the "
+                     "--garment shows where this one shows cloth is printed and marked on the "
+                     "picture");
+  render->add_option("--reference-body", flags->reference_body,
+                     "Body OBJ of --reference-garment (default: --body)");
   render->add_option("--values", flags->values,
                      "One number per vertex of the first garment (e.g. ease, meters), colouring "
                      "it through the scale");

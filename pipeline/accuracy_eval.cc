@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -52,14 +55,22 @@ struct RowStats {
   SkinVisibility skin;
   double skin_share_max = 0;
   double inside_share_max = 0;
+  double edge_retreat_sum_mm = 0;
+  int64_t edge_vertex_count = 0;
 
   void Add(const core::Positions& fit, const core::Positions& truth,
-           const core::TriangleBvh& body) {
+           const core::TriangleBvh& body, const GarmentEdges& edges) {
     for (Eigen::Index v = 0; v < fit.rows(); ++v) {
       errors_mm.push_back(static_cast<float>(1000 * (fit.row(v) - truth.row(v)).norm()));
       const core::SurfacePoint p = body.Closest(fit.row(v).transpose(), kPenetrationSearch);
       below_0mm += p.found && p.signed_distance < 0;
       below_1mm += p.found && p.signed_distance < 0.001;
+    }
+    const Eigen::VectorXd retreat = EdgeRetreat(edges, truth, fit);
+    for (const double r : retreat) {
+      if (std::isnan(r)) continue;
+      edge_retreat_sum_mm += 1000 * r;
+      ++edge_vertex_count;
     }
   }
 
@@ -108,6 +119,8 @@ struct RowStats {
     row.set_visible_skin_max(skin_share_max);
     row.set_visible_skin_inside(skin.inside_share());
     row.set_visible_skin_inside_max(inside_share_max);
+    row.set_edge_retreat_mean_mm(
+        edge_vertex_count ? edge_retreat_sum_mm / static_cast<double>(edge_vertex_count) : 0);
     return row;
   }
 };
@@ -218,6 +231,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
   const int64_t vertex_count = garment.template_mesh().vertex_count();
   ASSIGN_OR_RETURN(const core::Mesh garment_mesh, proto::MeshFromProto(garment.template_mesh()));
   const core::Triangles garment_triangles = core::Triangulate(garment_mesh.faces);
+  const GarmentEdges edges = FindGarmentEdges(garment_triangles);
   // The ground truth itself: where the drape lets skin show through its cloth, a fit cannot be
   // judged there, and it learns from such drapes.
   SkinVisibility drape_skin;
@@ -258,7 +272,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
       ASSIGN_OR_RETURN(core::Positions truth,
                        workers::DrapeResultPositions(truths[h], vertex_count));
       const core::Positions fitted = FromFlat(fit);
-      row.Add(fitted, truth, holdouts[h].surface);
+      row.Add(fitted, truth, holdouts[h].surface, edges);
       RETURN_IF_ERROR(row.AddSkin(fitted, holdouts[h].weights_body, truth, holdouts[h],
                                   body_triangles, garment_triangles));
     }
@@ -288,7 +302,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
                          workers::DrapeResultPositions(chosen, vertex_count));
         ASSIGN_OR_RETURN(core::Positions truth,
                          workers::DrapeResultPositions(truths[h], vertex_count));
-        row.Add(positions, truth, holdouts[h].surface);
+        row.Add(positions, truth, holdouts[h].surface, edges);
         RETURN_IF_ERROR(row.AddSkin(positions, holdouts[h].weights_body, truth, holdouts[h],
                                     body_triangles, garment_triangles));
       }
@@ -307,7 +321,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
         ++row.fit_micros_count;
         ASSIGN_OR_RETURN(core::Positions truth,
                          workers::DrapeResultPositions(truths[h], vertex_count));
-        row.Add(fit.positions, truth, holdouts[h].surface);
+        row.Add(fit.positions, truth, holdouts[h].surface, edges);
         // The binding fits the real body, so it is shown on it.
         RETURN_IF_ERROR(row.AddSkin(fit.positions, holdouts[h].body, truth, holdouts[h],
                                     body_triangles, garment_triangles));
@@ -428,6 +442,8 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
                                   rows[r].errors_mm.end());
       overall[r].below_0mm += rows[r].below_0mm;
       overall[r].below_1mm += rows[r].below_1mm;
+      overall[r].edge_retreat_sum_mm += rows[r].edge_retreat_sum_mm;
+      overall[r].edge_vertex_count += rows[r].edge_vertex_count;
       overall[r].fit_micros_sum += rows[r].fit_micros_sum / rows[r].fit_micros_count;
       ++overall[r].fit_micros_count;
       overall[r].AddSkin(rows[r].skin, rows[r].skin_share_max, rows[r].inside_share_max);
@@ -618,11 +634,13 @@ void AppendTable(const google::protobuf::RepeatedPtrField<v1::MethodAccuracy>& r
                  std::string& md) {
   absl::StrAppend(&md,
                   "| method | clean-up | mean mm | p95 mm | max mm | pen. < 0 mm | pen. < 1 mm | "
-                  "visible skin (max) | of it inside the cloth (max) | fit us | speed-up |\n"
-                  "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                  "visible skin (max) | of it inside the cloth (max) | edge retreat mm | fit us | "
+                  "speed-up |\n"
+                  "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const v1::MethodAccuracy& r : rows) {
     absl::StrAppend(&md, absl::StrFormat("| %s | %s | %.2f | %.2f | %.1f | %.3f%% | %.3f%% | "
-                                         "%.2f%% (%.2f%%) | %.2f%% (%.2f%%) | %.1f | %.0fx |\n",
+                                         "%.2f%% (%.2f%%) | %.2f%% (%.2f%%) | %+.2f | %.1f | "
+                                         "%.0fx |\n",
                                          r.method(), r.cleanup() ? "yes" : "no",
                                          r.error_mean_mm(), r.error_p95_mm(), r.error_max_mm(),
                                          100 * r.penetration_below_0mm(),
@@ -630,7 +648,8 @@ void AppendTable(const google::protobuf::RepeatedPtrField<v1::MethodAccuracy>& r
                                          100 * r.visible_skin(), 100 * r.visible_skin_max(),
                                          100 * r.visible_skin_inside(),
                                          100 * r.visible_skin_inside_max(),
-                                         r.fit_microseconds(), r.speedup()));
+                                         r.edge_retreat_mean_mm(), r.fit_microseconds(),
+                                         r.speedup()));
   }
 }
 
@@ -645,7 +664,9 @@ std::string AccuracyReportMarkdown(const v1::AccuracyReport& report) {
       "and side views (600 px high) where the drape shows cloth and the fit shows skin, over the "
       "drape's cloth pixels (all avatars; max: the worst avatar). Of it inside the cloth: the "
       "skin pixels more than 1 cm from the drape garment's edges (hems, cuffs, necklines, "
-      "waistbands), where a line of skin means the edge is in another place.\n",
+      "waistbands), where a line of skin means the edge is in another place. Edge retreat: how "
+      "far the fit's garment edges lie back into the cloth from the drape's, on average (signed; "
+      "+: a hem higher, a neckline lower), where a line of skin shows along them.\n",
       report.avatar_basis_id().substr(0, 12), report.component_count(), report.size(),
       report.holdout_count(), report.preset(), report.holdout_seed(),
       report.avatar_error_mean_mm(), report.example_scale(),

@@ -1,6 +1,12 @@
 #include "pipeline/skin_visibility.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "Eigen/Geometry"
@@ -68,7 +74,8 @@ absl::StatusOr<SkinVisibility> MeasureSkinThroughCloth(const DressedBody& drape,
 }
 
 absl::StatusOr<SkinVisibility> MeasureVisibleSkin(const DressedBody& reference,
-                                                  const DressedBody& candidate, int height) {
+                                                  const DressedBody& candidate, int height,
+                                                  SkinPicture* picture) {
   RETURN_IF_ERROR(CheckScene(reference, "reference"));
   RETURN_IF_ERROR(CheckScene(candidate, "candidate"));
   Eigen::AlignedBox3d frame;
@@ -104,16 +111,81 @@ absl::StatusOr<SkinVisibility> MeasureVisibleSkin(const DressedBody& reference,
     }
     return false;
   };
+  if (picture != nullptr) {
+    *picture = SkinPicture{.frame = frame,
+                           .width = drape.width,
+                           .height = drape.height,
+                           .pixels = std::vector<SkinPixel>(drape.layer_index.size())};
+  }
   for (int y = 0; y < drape.height; ++y) {
     for (int x = 0; x < drape.width; ++x) {
       if (drape.LayerAt(x, y) != kGarmentLayer) continue;
       ++result.cloth_pixels;
       if (fit.LayerAt(x, y) != kBodyLayer) continue;
       ++result.skin_pixels;
-      result.edge_skin_pixels += near_edge(x, y);
+      const bool edge = near_edge(x, y);
+      result.edge_skin_pixels += edge;
+      if (picture != nullptr) {
+        picture->pixels[y * drape.width + x] = edge ? SkinPixel::kEdge : SkinPixel::kInside;
+      }
     }
   }
   return result;
+}
+
+GarmentEdges FindGarmentEdges(const core::Triangles& triangles) {
+  std::map<std::pair<int32_t, int32_t>, int> uses;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    for (int c = 0; c < 3; ++c) {
+      const int32_t a = triangles(t, c);
+      const int32_t b = triangles(t, (c + 1) % 3);
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  std::set<int32_t> open;
+  for (const auto& [edge, count] : uses) {
+    if (count != 1) continue;
+    open.insert(edge.first);
+    open.insert(edge.second);
+  }
+  GarmentEdges edges;
+  edges.vertices.assign(open.begin(), open.end());
+  edges.neighbours.resize(edges.vertices.size());
+  edges.along.resize(edges.vertices.size());
+  const auto add = [&edges](int32_t v, int32_t neighbour, bool open_edge) {
+    const auto at = std::lower_bound(edges.vertices.begin(), edges.vertices.end(), v);
+    if (at == edges.vertices.end() || *at != v) return;
+    const auto e = at - edges.vertices.begin();
+    edges.neighbours[e].push_back(neighbour);
+    if (open_edge) edges.along[e].push_back(neighbour);
+  };
+  for (const auto& [edge, count] : uses) {
+    add(edge.first, edge.second, count == 1);
+    add(edge.second, edge.first, count == 1);
+  }
+  return edges;
+}
+
+Eigen::VectorXd EdgeRetreat(const GarmentEdges& edges, const core::Positions& reference,
+                            const core::Positions& candidate) {
+  Eigen::VectorXd retreat(static_cast<Eigen::Index>(edges.vertices.size()));
+  for (size_t e = 0; e < edges.vertices.size(); ++e) {
+    const int32_t v = edges.vertices[e];
+    Eigen::RowVector3d inward = Eigen::RowVector3d::Zero();
+    for (const int32_t n : edges.neighbours[e]) inward += reference.row(n) - reference.row(v);
+    // A vertex where more than two open edges meet (a seam's corner) has no one edge line.
+    if (edges.along[e].size() == 2) {
+      const Eigen::RowVector3d line =
+          reference.row(edges.along[e][1]) - reference.row(edges.along[e][0]);
+      const double line_length = line.norm();
+      if (line_length > 0) inward -= inward.dot(line) / (line_length * line_length) * line;
+    }
+    const double length = inward.norm();
+    retreat[static_cast<Eigen::Index>(e)] =
+        length > 0 ? (candidate.row(v) - reference.row(v)).dot(inward) / length
+                   : std::numeric_limits<double>::quiet_NaN();
+  }
+  return retreat;
 }
 
 }  // namespace fitbase::pipeline

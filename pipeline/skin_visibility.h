@@ -2,7 +2,9 @@
 #define FITBASE_PIPELINE_SKIN_VISIBILITY_H_
 
 #include <cstdint>
+#include <vector>
 
+#include "Eigen/Geometry"
 #include "absl/status/statusor.h"
 #include "core/mesh.h"
 
@@ -47,14 +49,52 @@ struct DressedBody {
   const core::Triangles* garment_triangles = nullptr;
 };
 
+// What a pixel of the reference's cloth shows in the candidate, for a picture of where the
+// visible skin is.
+enum class SkinPixel : uint8_t {
+  kNone,    // Not the reference's cloth, or the candidate's cloth covers it.
+  kEdge,    // The candidate's skin, within kClothEdgeBand of the reference garment's edge.
+  kInside,  // The candidate's skin, farther in: the body through the cloth.
+};
+
+// Where MeasureVisibleSkin found skin. A render with options.frame = frame and the same height
+// maps every world point to the same pixel (core::RenderOptions), so the pixels can be marked
+// on a picture of either scene.
+struct SkinPicture {
+  Eigen::AlignedBox3d frame;     // m.
+  int width = 0;
+  int height = 0;
+  std::vector<SkinPixel> pixels;  // height x width, rows from the top.
+};
+
 // reference: typically the drape on the customer's real body; candidate: a fast fit on the body
 // it is shown with (for a clothing basis, the body of the weights). Both are framed on the
-// union bounding box of the four meshes, at `height` pixels. Errors (INVALID_ARGUMENT): a
-// missing or empty mesh, non-finite positions, a triangle index out of range, a height outside
-// [16, 16384].
+// union bounding box of the four meshes, at `height` pixels; `picture`, if given, receives
+// where the skin is. Errors (INVALID_ARGUMENT): a missing or empty mesh, non-finite positions,
+// a triangle index out of range, a height outside [16, 16384].
 absl::StatusOr<SkinVisibility> MeasureVisibleSkin(const DressedBody& reference,
                                                   const DressedBody& candidate,
-                                                  int height = kSkinViewHeight);
+                                                  int height = kSkinViewHeight,
+                                                  SkinPicture* picture = nullptr);
+
+// A garment's open edges (edges of one triangle): its hems, cuffs, necklines and waistbands.
+struct GarmentEdges {
+  std::vector<int32_t> vertices;                // Ascending.
+  std::vector<std::vector<int32_t>> neighbours;  // Per vertex: those it shares an edge with.
+  std::vector<std::vector<int32_t>> along;       // Per vertex: those it shares an open edge with.
+};
+
+// triangles: F x 3 vertex indices >= 0 of one garment.
+GarmentEdges FindGarmentEdges(const core::Triangles& triangles);
+
+// How far each edge vertex of `candidate` lies back into the cloth from `reference`'s (m; one
+// per edges.vertices): its move along the reference's direction into the cloth there, from the
+// vertex towards its neighbours, square to the edge (the part along the line through its two
+// neighbours on the edge taken out). +: a hem higher, a neckline lower, a line of skin uncovered
+// along it; -: the edge out past the reference's, which uncovers none. NaN where that direction
+// vanishes. reference, candidate: V x 3 (m), the garment's vertex order.
+Eigen::VectorXd EdgeRetreat(const GarmentEdges& edges, const core::Positions& reference,
+                            const core::Positions& candidate);
 
 // How far in front of its garment a body surface may lie and still be the cloth's own place:
 // more than any body point pokes through a drape, less than the gap between a limb and the

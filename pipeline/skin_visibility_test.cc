@@ -1,8 +1,12 @@
 #include "pipeline/skin_visibility.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "absl/status/status.h"
+#include "core/mesh_render.h"
 #include "gtest/gtest.h"
 
 namespace fitbase::pipeline {
@@ -94,6 +98,86 @@ TEST(SkinVisibilityTest, AHemAFewMillimetresHigherIsAnEdgeNotSkinThroughTheCloth
   EXPECT_NEAR(skin->share(), 0.03, 0.01);
   EXPECT_EQ(skin->edge_skin_pixels, skin->skin_pixels);
   EXPECT_EQ(skin->inside_share(), 0.0);
+}
+
+TEST(SkinVisibilityTest, ThePictureMarksTheSkinWhereItShows) {
+  const Box body = BodyBox();
+  const core::Positions draped = Patch(0.11, 0.11);
+  const core::Positions fitted = Patch(0.11, 0.09);
+  const core::Triangles triangles = PatchTriangles();
+  SkinPicture picture;
+  const absl::StatusOr<SkinVisibility> skin =
+      MeasureVisibleSkin({&body.positions, &body.triangles, &draped, &triangles},
+                         {&body.positions, &body.triangles, &fitted, &triangles},
+                         kSkinViewHeight, &picture);
+  ASSERT_TRUE(skin.ok()) << skin.status();
+  ASSERT_EQ(picture.height, kSkinViewHeight);
+  ASSERT_EQ(picture.pixels.size(), static_cast<size_t>(picture.width) * picture.height);
+  int64_t edge = 0;
+  int64_t inside = 0;
+  double inside_x = 0;
+  for (int y = 0; y < picture.height; ++y) {
+    for (int x = 0; x < picture.width; ++x) {
+      const SkinPixel pixel = picture.pixels[y * picture.width + x];
+      edge += pixel == SkinPixel::kEdge;
+      if (pixel == SkinPixel::kInside) {
+        ++inside;
+        inside_x += x;
+      }
+    }
+  }
+  EXPECT_EQ(edge, skin->edge_skin_pixels);
+  EXPECT_EQ(edge + inside, skin->skin_pixels);
+  // The sunk half is the right one (+X), which the front view draws right of the box's middle.
+  const core::RenderOptions options{.height = kSkinViewHeight, .frame = picture.frame};
+  std::vector<core::RenderLayer> layers(1);
+  layers[0].mesh.positions = body.positions;
+  layers[0].mesh.faces.sizes.assign(12, 3);
+  layers[0].mesh.faces.indices.assign(body.triangles.data(),
+                                      body.triangles.data() + body.triangles.size());
+  const absl::StatusOr<core::RenderedImage> image = core::RenderFrontAndSide(layers, options);
+  ASSERT_TRUE(image.ok()) << image.status();
+  EXPECT_EQ(image->width, picture.width);
+  ASSERT_GT(inside, 0);
+  EXPECT_GT(inside_x / inside, image->front.x0 + 0.5 * image->front.width);
+  EXPECT_LT(inside_x / inside, image->front.x0 + image->front.width);
+}
+
+TEST(SkinVisibilityTest, EdgesRaisedLieBackAtTheBottomAndOutAtTheTop) {
+  // One 0.2 m square of 2 x 2 quads (9 vertices, row-major from the bottom left), 8 triangles.
+  core::Positions square(9, 3);
+  for (int v = 0; v < 9; ++v) square.row(v) << -0.1 + 0.1 * (v % 3), 0.9 + 0.1 * (v / 3), 0.11;
+  core::Triangles triangles(8, 3);
+  for (int q = 0; q < 4; ++q) {
+    const int v = q % 2 + 3 * (q / 2);
+    triangles.row(2 * q) << v, v + 1, v + 4;
+    triangles.row(2 * q + 1) << v, v + 4, v + 3;
+  }
+  const GarmentEdges edges = FindGarmentEdges(triangles);
+  EXPECT_EQ(edges.vertices, (std::vector<int32_t>{0, 1, 2, 3, 5, 6, 7, 8}));
+  // Vertex 1, the middle of the bottom edge: 0 and 2 along the edge, 4 and 5 into the cloth.
+  std::vector<int32_t> bottom_middle = edges.neighbours[1];
+  std::sort(bottom_middle.begin(), bottom_middle.end());
+  EXPECT_EQ(bottom_middle, (std::vector<int32_t>{0, 2, 4, 5}));
+  std::vector<int32_t> bottom_middle_along = edges.along[1];
+  std::sort(bottom_middle_along.begin(), bottom_middle_along.end());
+  EXPECT_EQ(bottom_middle_along, (std::vector<int32_t>{0, 2}));
+  core::Positions raised = square;
+  raised.col(1).array() += 0.006;
+  const Eigen::VectorXd retreat = EdgeRetreat(edges, square, raised);
+  ASSERT_EQ(retreat.size(), 8);
+  // The middles of the bottom and top edges move straight into and out of the cloth; the sides'
+  // middles along their edge, neither.
+  EXPECT_NEAR(retreat[1], 0.006, 1e-9);
+  EXPECT_NEAR(retreat[6], -0.006, 1e-9);
+  EXPECT_NEAR(retreat[3], 0.0, 1e-9);
+  EXPECT_NEAR(retreat[4], 0.0, 1e-9);
+  // Shrunk about its middle, every edge lies back.
+  core::Positions shrunk = square;
+  const Eigen::RowVector3d middle = square.row(4);
+  for (int v = 0; v < 9; ++v) shrunk.row(v) = middle + 0.9 * (square.row(v) - middle);
+  const Eigen::VectorXd shrunk_retreat = EdgeRetreat(edges, square, shrunk);
+  EXPECT_GT(shrunk_retreat.minCoeff(), 0.0);
 }
 
 // The box and, 5 cm before the patch's left half, a 0.1 m cube standing for a forearm.

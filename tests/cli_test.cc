@@ -164,6 +164,43 @@ TEST(CliTest, RenderSaysHowMuchSkinShowsThroughEachGarment) {
   const size_t at = r.out.find(inside);
   ASSERT_NE(at, std::string::npos) << r.out;
   EXPECT_GT(std::stod(r.out.substr(at + inside.size())), 99.0) << r.out;
+
+  // Judged against the outer one as the reference, the inner one shows the body through it
+  // nearly everywhere, and the outer one against itself nowhere.
+  const std::string against = "visible skin against " + (dir / "out.obj").string() + ": ";
+  const Result sunk = RunFitbase({"render", "--body", (dir / "a.obj").string(), "--garment",
+                                  (dir / "in.obj").string(), "--reference-garment",
+                                  (dir / "out.obj").string(), "--out", (dir / "b.png").string()});
+  ASSERT_EQ(sunk.exit_code, 0) << sunk.err;
+  const size_t sunk_at = sunk.out.find(against);
+  ASSERT_NE(sunk_at, std::string::npos) << sunk.out;
+  EXPECT_GT(std::stod(sunk.out.substr(sunk_at + against.size())), 90.0) << sunk.out;
+  EXPECT_TRUE(fs::exists(dir / "b.png"));
+  const Result same = RunFitbase({"render", "--body", (dir / "a.obj").string(), "--garment",
+                                  (dir / "out.obj").string(), "--reference-garment",
+                                  (dir / "out.obj").string(), "--reference-body",
+                                  (dir / "a.obj").string(), "--out", (dir / "c.png").string()});
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_THAT(same.out, HasSubstr(against + "0.00%"));
+
+  const Result two = RunFitbase({"render", "--body", (dir / "a.obj").string(), "--garment",
+                                 (dir / "in.obj").string(), "--garment", (dir / "out.obj").string(),
+                                 "--reference-garment", (dir / "out.obj").string(), "--out",
+                                 (dir / "d.png").string()});
+  EXPECT_NE(two.exit_code, 0);
+  EXPECT_THAT(two.err, HasSubstr("one --garment"));
+  const Result lone = RunFitbase({"render", "--body", (dir / "a.obj").string(), "--garment",
+                                  (dir / "in.obj").string(), "--reference-body",
+                                  (dir / "a.obj").string(), "--out", (dir / "d.png").string()});
+  EXPECT_NE(lone.exit_code, 0);
+  EXPECT_THAT(lone.err, HasSubstr("--reference-body"));
+  const Result missing = RunFitbase({"render", "--body", (dir / "a.obj").string(), "--garment",
+                                     (dir / "in.obj").string(), "--reference-garment",
+                                     (dir / "none.obj").string(), "--out",
+                                     (dir / "d.png").string()});
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_THAT(missing.err, HasSubstr("--reference-garment"));
+  EXPECT_FALSE(fs::exists(dir / "d.png"));
 }
 
 TEST(CliTest, BadAvatarParamsFailWithTheirName) {

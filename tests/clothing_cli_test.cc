@@ -259,6 +259,9 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
     EXPECT_LE(row.visible_skin_inside(), row.visible_skin()) << row.method();
     EXPECT_LE(row.visible_skin_inside(), row.visible_skin_inside_max()) << row.method();
     EXPECT_LE(row.visible_skin_inside_max(), row.visible_skin_max()) << row.method();
+    // An edge vertex's retreat is part of its move from the drape.
+    EXPECT_TRUE(std::isfinite(row.edge_retreat_mean_mm())) << row.method();
+    EXPECT_LE(std::abs(row.edge_retreat_mean_mm()), row.error_max_mm()) << row.method();
   }
   // The drapes themselves are judged too: skin through their own cloth.
   const v1::GarmentAccuracy& garment = report.garments(0);
