@@ -1,12 +1,15 @@
 // fitbase clothing build / fitbase fit: a garment size's clothing basis, and the online fit.
 #include <chrono>
 #include <iostream>
+#include <optional>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "cli/cli_context.h"
 #include "core/file_util.h"
 #include "core/garment_obj.h"
+#include "core/obj_io.h"
+#include "core/pca_basis.h"
 #include "core/status_macros.h"
 #include "pipeline/avatar_file.h"
 #include "pipeline/avatar_projection.h"
@@ -14,6 +17,7 @@
 #include "pipeline/drape_runner.h"
 #include "proto/clothing_basis_codec.h"
 #include "proto/json_codec.h"
+#include "proto/mesh_codec.h"
 #include "proto/message_file.h"
 
 namespace fitbase::cli {
@@ -86,30 +90,61 @@ struct FitFlags {
   std::string weights;
   bool no_cleanup = false;
   std::string out;
+  std::string body_out;
 };
 
-absl::StatusOr<v1::AvatarWeights> CustomerWeights(const FitFlags& flags) {
+// basis: loaded from --basis, if given.
+absl::StatusOr<v1::AvatarWeights> CustomerWeights(
+    const FitFlags& flags, const std::optional<pipeline::LoadedAvatarBasis>& basis) {
   v1::AvatarWeights weights;
   if (!flags.weights.empty()) {
     ASSIGN_OR_RETURN(std::string json, core::ReadFileToString(flags.weights));
     RETURN_IF_ERROR(proto::ParseJson(json, &weights));
     return weights;
   }
-  if (flags.basis.empty()) {
+  if (!basis.has_value()) {
     return absl::InvalidArgumentError("--avatar needs --basis, the avatar basis to project onto");
   }
-  ASSIGN_OR_RETURN(pipeline::LoadedAvatarBasis basis, pipeline::LoadAvatarBasis(flags.basis));
   ASSIGN_OR_RETURN(core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
-  return pipeline::ProjectAvatar(basis, avatar);
+  return pipeline::ProjectAvatar(*basis, avatar);
+}
+
+// The body the fit is made for and the service returns with it: mean + components x weights.
+absl::Status WriteBodyOfWeights(const std::string& path, const pipeline::LoadedAvatarBasis& basis,
+                                const v1::AvatarWeights& weights) {
+  if (weights.basis_id() != basis.message.id()) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "--body-out: the weights are on avatar basis '", weights.basis_id(), "'; --basis is ",
+        basis.message.id()));
+  }
+  if (weights.weights_size() != basis.pca.components.cols()) {
+    return absl::InvalidArgumentError(absl::StrCat("--body-out: ", weights.weights_size(),
+                                                   " weights for a basis of ",
+                                                   basis.pca.components.cols(), " components"));
+  }
+  ASSIGN_OR_RETURN(core::Mesh body, proto::MeshFromProto(basis.message.mean()));
+  const Eigen::VectorXd flat = core::ReconstructFromWeights(
+      basis.pca,
+      Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size()));
+  body.positions = Eigen::Map<const core::Positions>(flat.data(), flat.size() / 3, 3);
+  return core::WriteObj(path, body);
 }
 
 absl::Status RunFit(const FitFlags& flags) {
   if (flags.avatar.empty() == flags.weights.empty()) {
     return absl::InvalidArgumentError("give exactly one of --avatar and --weights");
   }
+  if (!flags.body_out.empty() && flags.basis.empty()) {
+    return absl::InvalidArgumentError(
+        "--body-out needs --basis, whose mean and components make the body");
+  }
   v1::ClothingBasis clothing;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.clothing, &clothing));
-  ASSIGN_OR_RETURN(v1::AvatarWeights weights, CustomerWeights(flags));
+  std::optional<pipeline::LoadedAvatarBasis> basis;
+  if (!flags.basis.empty()) {
+    ASSIGN_OR_RETURN(basis, pipeline::LoadAvatarBasis(flags.basis));
+  }
+  ASSIGN_OR_RETURN(v1::AvatarWeights weights, CustomerWeights(flags, basis));
   if (weights.basis_id() != clothing.avatar_basis_id()) {
     return absl::FailedPreconditionError(absl::StrCat(
         "the weights are on avatar basis '", weights.basis_id(), "'; clothing basis ",
@@ -131,6 +166,10 @@ absl::Status RunFit(const FitFlags& flags) {
           positions.data(), mesh.mesh.vertex_count(), 3)
           .cast<double>();
   RETURN_IF_ERROR(core::WriteGarmentObj(flags.out, mesh));
+  if (!flags.body_out.empty()) {
+    RETURN_IF_ERROR(WriteBodyOfWeights(flags.body_out, *basis, weights));
+    std::cout << absl::StrFormat("wrote %s (the body of the weights)\n", flags.body_out);
+  }
   std::cout << absl::StrFormat(
       "fit %s size %s (%s, %d weights, avatar reconstruction error %.2f mm): %.0f us, "
       "clean-up %s (%d vertices pushed out)\nwrote %s\n",
@@ -182,6 +221,9 @@ void AddClothingCommands(CLI::App& app, CliContext& context) {
                   "Customer weights as JSON (`fitbase basis project --json`)");
   fit->add_flag("--no-cleanup", fit_flags->no_cleanup,
                 "Skip pushing vertices out of the customer's body");
+  fit->add_option("--body-out", fit_flags->body_out,
+                  "Also write the body the fit is made for, mean + components x weights (the "
+                  "body the fit service returns), as an OBJ; needs --basis");
   fit->add_option("--out", fit_flags->out, "Fitted garment OBJ (the garment's vertex order)")
       ->required();
   fit->callback([&context, fit_flags] {

@@ -173,6 +173,35 @@ TEST_F(ClothingCliTest, FitsAnAvatarThroughItsProjection) {
   ASSERT_EQ(fit.exit_code, 0) << fit.err;
   EXPECT_THAT(fit.out, HasSubstr("clean-up on"));
   EXPECT_TRUE(core::ReadGarmentObj(Path("customer.obj")).ok());
+
+  // The body of the weights lies in the basis: projected again, nothing of it is lost.
+  const Result with_body = RunFitbase({"fit", "--clothing", Path("q.fbc"), "--avatar",
+                                       Path("pop/avatar-00002.obj"), "--basis", Path("b.fbb"),
+                                       "--body-out", Path("customer-body.obj"), "--out",
+                                       Path("customer2.obj")});
+  ASSERT_EQ(with_body.exit_code, 0) << with_body.err;
+  EXPECT_THAT(with_body.out, HasSubstr("the body of the weights"));
+  const Result again = RunFitbase({"basis", "project", "--basis", Path("b.fbb"), "--avatar",
+                                   Path("customer-body.obj"), "--json"});
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  v1::AvatarWeights reprojected;
+  ASSERT_TRUE(proto::ParseJson(again.out, &reprojected).ok()) << again.out;
+  EXPECT_LT(reprojected.mean_error_mm(), 0.01);
+  const Result own = RunFitbase({"basis", "project", "--basis", Path("b.fbb"), "--avatar",
+                                 Path("pop/avatar-00002.obj"), "--json"});
+  v1::AvatarWeights projected;
+  ASSERT_TRUE(proto::ParseJson(own.out, &projected).ok()) << own.out;
+  EXPECT_GT(projected.mean_error_mm(), 0.1);
+  ASSERT_EQ(reprojected.weights_size(), projected.weights_size());
+  for (int k = 0; k < projected.weights_size(); ++k) {
+    EXPECT_NEAR(reprojected.weights(k), projected.weights(k), 1e-4) << k;
+  }
+
+  const Result no_basis = RunFitbase({"fit", "--clothing", Path("q.fbc"), "--weights",
+                                      Path("w.json"), "--body-out", Path("b2.obj"), "--out",
+                                      Path("customer3.obj")});
+  EXPECT_NE(no_basis.exit_code, 0);
+  EXPECT_THAT(no_basis.err, HasSubstr("--body-out needs --basis"));
 }
 
 TEST_F(ClothingCliTest, BadInputsAreNamed) {
