@@ -9,7 +9,6 @@
 #include "core/file_util.h"
 #include "core/garment_obj.h"
 #include "core/obj_io.h"
-#include "core/pca_basis.h"
 #include "core/status_macros.h"
 #include "pipeline/avatar_file.h"
 #include "pipeline/avatar_projection.h"
@@ -123,10 +122,8 @@ absl::Status WriteBodyOfWeights(const std::string& path, const pipeline::LoadedA
                                                    basis.pca.components.cols(), " components"));
   }
   ASSIGN_OR_RETURN(core::Mesh body, proto::MeshFromProto(basis.message.mean()));
-  const Eigen::VectorXd flat = core::ReconstructFromWeights(
-      basis.pca,
-      Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size()));
-  body.positions = Eigen::Map<const core::Positions>(flat.data(), flat.size() / 3, 3);
+  body.positions = pipeline::BodyOfWeights(
+      basis, Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size()));
   return core::WriteObj(path, body);
 }
 

@@ -98,10 +98,10 @@ absl::StatusOr<Eigen::VectorXd> ReadValues(const std::string& path) {
 }
 
 // The visible skin of the garment on --body where --reference-garment on its body shows cloth,
-// printed, and where it is, for MarkSkin.
-absl::StatusOr<pipeline::SkinPicture> MeasureAgainstReference(const RenderFlags& flags,
-                                                               const core::Mesh& body,
-                                                               const core::Mesh& garment) {
+// printed, and where it is, for MarkSkin. body_triangles: body.faces triangulated.
+absl::StatusOr<pipeline::SkinPicture> MeasureAgainstReference(
+    const RenderFlags& flags, const core::Mesh& body, const core::Triangles& body_triangles,
+    const core::Mesh& garment) {
   core::Mesh reference_body = body;
   if (!flags.reference_body.empty()) {
     absl::StatusOr<core::Mesh> read = core::ReadObj(flags.reference_body);
@@ -110,7 +110,6 @@ absl::StatusOr<pipeline::SkinPicture> MeasureAgainstReference(const RenderFlags&
   }
   absl::StatusOr<core::GarmentMesh> reference = core::ReadGarmentObj(flags.reference_garment);
   if (!reference.ok()) return Flagged("--reference-garment", reference.status());
-  const core::Triangles body_triangles = core::Triangulate(body.faces);
   const core::Triangles garment_triangles = core::Triangulate(garment.faces);
   const core::Triangles reference_body_triangles = core::Triangulate(reference_body.faces);
   const core::Triangles reference_triangles = core::Triangulate(reference->mesh.faces);
@@ -201,12 +200,13 @@ absl::Status RunRender(const RenderFlags& flags) {
     layer.value_max = range.second;
   }
 
+  const core::Triangles body_triangles = core::Triangulate(layers[0].mesh.faces);
   core::RenderOptions options;
   options.height = flags.height;
   std::optional<pipeline::SkinPicture> skin_picture;
   if (!flags.reference_garment.empty()) {
-    ASSIGN_OR_RETURN(skin_picture,
-                     MeasureAgainstReference(flags, layers[0].mesh, layers[1].mesh));
+    ASSIGN_OR_RETURN(skin_picture, MeasureAgainstReference(flags, layers[0].mesh, body_triangles,
+                                                           layers[1].mesh));
     options.frame = skin_picture->frame;
   }
   ASSIGN_OR_RETURN(core::RenderedImage image, core::RenderFrontAndSide(layers, options));
@@ -214,7 +214,6 @@ absl::Status RunRender(const RenderFlags& flags) {
   RETURN_IF_ERROR(pipeline::WritePng(flags.out, image.width, image.height, image.rgb));
   std::cout << absl::StrFormat("wrote %s (%dx%d: front view, side view from +X%s)\n", flags.out,
                                image.width, image.height, flags.values.empty() ? "" : ", legend");
-  const core::Triangles body_triangles = core::Triangulate(layers[0].mesh.faces);
   for (size_t i = 1; i < layers.size(); ++i) {
     const core::Triangles garment_triangles = core::Triangulate(layers[i].mesh.faces);
     ASSIGN_OR_RETURN(const pipeline::SkinVisibility skin,

@@ -182,9 +182,7 @@ absl::StatusOr<std::vector<Holdout>> MakeHoldouts(const body::BodyModel& body_mo
     const Eigen::VectorXf w =
         Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
             .cast<float>();
-    const Eigen::VectorXd flat = core::ReconstructFromWeights(basis.pca, w.cast<double>());
-    const core::Positions weights_body =
-        Eigen::Map<const core::Positions>(flat.data(), flat.size() / 3, 3);
+    const core::Positions weights_body = BodyOfWeights(basis, w.cast<double>());
     if (spec.truth_on_weights_body) body.positions = weights_body;
     ASSIGN_OR_RETURN(core::TriangleBvh surface,
                      core::TriangleBvh::Build(body.positions, triangles));
@@ -496,11 +494,7 @@ absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
   for (const Holdout& h : holdouts) {
     ASSIGN_OR_RETURN(AdviceBody real, MeasureAdviceBody(h.body, triangles));
     real_bodies.push_back(std::move(real));
-    const Eigen::VectorXd flat = core::ReconstructFromWeights(basis.pca, h.weights.cast<double>());
-    ASSIGN_OR_RETURN(AdviceBody of_weights,
-                     MeasureAdviceBody(Eigen::Map<const core::Positions>(flat.data(),
-                                                                         flat.size() / 3, 3),
-                                       triangles));
+    ASSIGN_OR_RETURN(AdviceBody of_weights, MeasureAdviceBody(h.weights_body, triangles));
     weight_bodies.push_back(std::move(of_weights));
   }
 

@@ -34,4 +34,9 @@ absl::StatusOr<v1::AvatarWeights> ProjectAvatar(const LoadedAvatarBasis& basis,
   return result;
 }
 
+core::Positions BodyOfWeights(const LoadedAvatarBasis& basis, const Eigen::VectorXd& weights) {
+  const Eigen::VectorXd flat = core::ReconstructFromWeights(basis.pca, weights);
+  return Eigen::Map<const core::Positions>(flat.data(), flat.size() / 3, 3);
+}
+
 }  // namespace fitbase::pipeline

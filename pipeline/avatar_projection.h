@@ -24,6 +24,11 @@ absl::StatusOr<LoadedAvatarBasis> LoadAvatarBasis(const std::filesystem::path& p
 absl::StatusOr<v1::AvatarWeights> ProjectAvatar(const LoadedAvatarBasis& basis,
                                                 const core::Mesh& avatar);
 
+// The body of the weights, mean + components x weights: the body a fit is made for and the fit
+// service returns with it, B x 3 (m). weights: one finite weight per component of the basis
+// (m), checked by the caller.
+core::Positions BodyOfWeights(const LoadedAvatarBasis& basis, const Eigen::VectorXd& weights);
+
 }  // namespace fitbase::pipeline
 
 #endif  // FITBASE_PIPELINE_AVATAR_PROJECTION_H_

@@ -178,9 +178,7 @@ absl::StatusOr<core::Positions> BodyPositions(const pipeline::LoadedAvatarBasis&
                                               const v1::AvatarWeights& weights) {
   ASSIGN_OR_RETURN(const Eigen::VectorXd w,
                    CheckedWeights(weights, basis.pca.variances.size(), basis.message.id()));
-  const Eigen::VectorXd flat = core::ReconstructFromWeights(basis.pca, w);
-  return core::Positions(
-      Eigen::Map<const core::Positions>(flat.data(), flat.size() / 3, 3));
+  return pipeline::BodyOfWeights(basis, w);
 }
 
 absl::StatusOr<v1::Avatar> BodyOfWeights(const pipeline::LoadedAvatarBasis& basis,
