@@ -114,8 +114,10 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
                    "without the projection's part) (default: own)")
       ->check(CLI::IsMember({"own", "weights"}));
   eval->add_option("--methods", flags->methods,
-                   "Comma-separated: paper, linear, quadratic, kernel, nearest, geometric "
-                   "(default: all but kernel)");
+                   "Comma-separated: paper, linear, quadratic, kernel, nearest, geometric, "
+                   "weights-drape (each held-out body's drape on its body of the weights: what "
+                   "no fit from the weights can do better than) (default: all but kernel and "
+                   "weights-drape)");
   eval->add_option("--samples", flags->samples,
                    "Bodies sampled from the basis's population and draped per garment, to train "
                    "the kernel method (default: 0)")

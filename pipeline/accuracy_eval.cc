@@ -147,7 +147,12 @@ core::Positions FromFlat(const Eigen::VectorXf& flat) {
 
 absl::Status CheckMethods(const AccuracyEvalSpec& spec) {
   for (const std::string& m : spec.methods) {
-    if (m != "nearest" && m != "geometric") {
+    if (m == kWeightsDrape && spec.truth_on_weights_body) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          kWeightsDrape, " is the drape on the body of the weights, which is the ground truth "
+          "itself with --truth-body weights; measure it against the own meshes"));
+    }
+    if (m != "nearest" && m != "geometric" && m != kWeightsDrape) {
       RETURN_IF_ERROR(clothing::ParseClothingMethod(m).status());
     }
     if (m == "kernel" && spec.sampled_drapes < 1) {
@@ -204,7 +209,7 @@ std::vector<RowStats> EmptyRows(const std::vector<std::string>& methods) {
       rows.back().cleanup = cleanup;
     }
   }
-  for (const char* m : {"nearest", "geometric"}) {
+  for (const char* m : {"nearest", "geometric", kWeightsDrape}) {
     if (!Wants(methods, m)) continue;
     rows.emplace_back();
     rows.back().method = m;
@@ -216,12 +221,14 @@ struct GarmentDrapes {
   ClothingBuildSpec spec;
   ClothingPlan plan;
   std::vector<workers::DrapeTask> truth;
+  std::vector<workers::DrapeTask> on_weights_bodies;  // For kWeightsDrape; else empty.
 };
 
 // Fits every held-out avatar with every method of one garment and fills its rows.
 absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& g,
                              const std::vector<v1::DrapeResult>& examples,
                              const std::vector<v1::DrapeResult>& truths,
+                             const std::vector<v1::DrapeResult>& on_weights_bodies,
                              const std::vector<Holdout>& holdouts,
                              const core::Triangles& body_triangles, std::vector<RowStats>& rows,
                              v1::GarmentAccuracy& out) {
@@ -248,7 +255,9 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
   out.set_drape_skin_through_max(drape_skin_max);
   std::optional<clothing::ClothingFitter> fitter;
   for (RowStats& row : rows) {
-    if (row.method == "nearest" || row.method == "geometric") continue;
+    if (row.method == "nearest" || row.method == "geometric" || row.method == kWeightsDrape) {
+      continue;
+    }
     // Rows come in pairs (without, then with clean-up) that share one clothing basis.
     if (!row.cleanup) {
       ASSIGN_OR_RETURN(clothing::ClothingMethod method, clothing::ParseClothingMethod(row.method));
@@ -324,6 +333,18 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
         RETURN_IF_ERROR(row.AddSkin(fit.positions, holdouts[h].body, truth, holdouts[h],
                                     body_triangles, garment_triangles));
       }
+    } else if (row.method == kWeightsDrape) {
+      for (size_t h = 0; h < holdouts.size(); ++h) {
+        ASSIGN_OR_RETURN(core::Positions positions,
+                         workers::DrapeResultPositions(on_weights_bodies[h], vertex_count));
+        ASSIGN_OR_RETURN(core::Positions truth,
+                         workers::DrapeResultPositions(truths[h], vertex_count));
+        row.Add(positions, truth, holdouts[h].surface, edges);
+        RETURN_IF_ERROR(row.AddSkin(positions, holdouts[h].weights_body, truth, holdouts[h],
+                                    body_triangles, garment_triangles));
+        row.fit_micros_sum += 1e6 * on_weights_bodies[h].report().seconds();
+        ++row.fit_micros_count;
+      }
     }
   }
   return absl::OkStatus();
@@ -395,12 +416,17 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
     for (const Holdout& h : holdouts) {
       g.truth.push_back(workers::MakeDrapeTask(*garment, spec.size, h.body, spec.settings,
                                                spec.schedule));
+      if (Wants(spec.methods, kWeightsDrape)) {
+        g.on_weights_bodies.push_back(workers::MakeDrapeTask(*garment, spec.size, h.weights_body,
+                                                             spec.settings, spec.schedule));
+      }
     }
     garments.push_back(std::move(g));
   }
   for (const GarmentDrapes& g : garments) {
     for (const workers::DrapeTask& t : g.plan.tasks) tasks.push_back(&t);
     for (const workers::DrapeTask& t : g.truth) tasks.push_back(&t);
+    for (const workers::DrapeTask& t : g.on_weights_bodies) tasks.push_back(&t);
   }
   ASSIGN_OR_RETURN(std::vector<v1::DrapeResult> results, RunDrapeTasks(tasks, spec.run));
 
@@ -411,10 +437,12 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
     const auto begin = results.begin() + static_cast<std::ptrdiff_t>(offset);
     const std::vector<v1::DrapeResult> examples(
         begin, begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size()));
-    const std::vector<v1::DrapeResult> truths(
-        begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size()),
-        begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size() + g.truth.size()));
-    offset += g.plan.tasks.size() + g.truth.size();
+    const auto truth_begin = begin + static_cast<std::ptrdiff_t>(g.plan.tasks.size());
+    const auto weights_begin = truth_begin + static_cast<std::ptrdiff_t>(g.truth.size());
+    const std::vector<v1::DrapeResult> truths(truth_begin, weights_begin);
+    const std::vector<v1::DrapeResult> on_weights_bodies(
+        weights_begin, weights_begin + static_cast<std::ptrdiff_t>(g.on_weights_bodies.size()));
+    offset += g.plan.tasks.size() + g.truth.size() + g.on_weights_bodies.size();
 
     v1::GarmentAccuracy* out = report.add_garments();
     out->set_garment_id(g.spec.garment->id());
@@ -433,7 +461,8 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
 
     std::vector<RowStats> rows = EmptyRows(spec.methods);
     RETURN_IF_ERROR(
-        EvaluateGarment(spec, g, examples, truths, holdouts, triangles, rows, *out));
+        EvaluateGarment(spec, g, examples, truths, on_weights_bodies, holdouts, triangles, rows,
+                        *out));
     for (size_t r = 0; r < rows.size(); ++r) {
       *out->add_methods() = rows[r].Finish(seconds);
       overall[r].errors_mm.insert(overall[r].errors_mm.end(), rows[r].errors_mm.begin(),

@@ -18,6 +18,12 @@
 
 namespace fitbase::pipeline {
 
+// A method of the eval that is no fit: each held-out avatar's drape on its body of the weights
+// (mean + Phi w), measured against the drape on its own mesh. A fit from the weights cannot
+// see what the projection leaves out of the body, so even a perfect model of the drape as a
+// function of the weights misses by about this much.
+inline constexpr char kWeightsDrape[] = "weights-drape";
+
 struct AccuracyEvalSpec {
   const v1::AvatarBasis* avatar_basis = nullptr;
   std::vector<const v1::Garment*> garments;  // Each imported on avatar_basis.
@@ -29,7 +35,8 @@ struct AccuracyEvalSpec {
   // body the fit is made for) instead of its own mesh, and penetration measured against that
   // body: the error without the projection's part.
   bool truth_on_weights_body = false;
-  // Any of paper, linear, quadratic, kernel (needs sampled_drapes), nearest, geometric.
+  // Any of paper, linear, quadratic, kernel (needs sampled_drapes), nearest, geometric,
+  // kWeightsDrape (not with truth_on_weights_body).
   std::vector<std::string> methods = {"paper", "linear", "quadratic", "nearest", "geometric"};
   double example_scale = 1.0;
   int sampled_drapes = 0;  // Per garment, for `kernel` (see ClothingBuildSpec).

@@ -310,9 +310,10 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
 // On the body of the weights the clean-up's body and the truth's are one, so what the
 // clean-up keeps clear is what penetration is measured against.
 TEST_F(ClothingCliTest, EvalCanDrapeTheTruthOnTheBodyOfTheWeights) {
-  const auto run = [&](const std::string& truth, const std::string& out) {
+  const auto run = [&](const std::string& methods, const std::string& truth,
+                       const std::string& out) {
     const Result r = RunFitbase({"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
-                                 "--methods", "linear", "--truth-body", truth, "--holdout", "2",
+                                 "--methods", methods, "--truth-body", truth, "--holdout", "2",
                                  "--seed", "9", "--homotopy-steps", "2", "--relax-steps", "2",
                                  "--cache", Path("truth-cache"), "--out", Path(out)});
     EXPECT_EQ(r.exit_code, 0) << r.err;
@@ -321,16 +322,29 @@ TEST_F(ClothingCliTest, EvalCanDrapeTheTruthOnTheBodyOfTheWeights) {
         proto::ParseJson(*core::ReadFileToString(Path(out + "/report.json")), &report).ok());
     return report;
   };
-  const v1::AccuracyReport own = run("own", "truth-own");
+  // Beside the fit, the drapes on the bodies of the weights as a method against the own meshes'.
+  const v1::AccuracyReport own = run("linear,weights-drape", "own", "truth-own");
   const auto drapes = [&] {
     return std::distance(fs::directory_iterator(Path("truth-cache")), fs::directory_iterator());
   };
   const auto cached = drapes();
-  const v1::AccuracyReport weights = run("weights", "truth-weights");
+  const v1::AccuracyReport weights = run("linear", "weights", "truth-weights");
   EXPECT_EQ(own.truth_body(), "own");
   EXPECT_EQ(weights.truth_body(), "weights");
-  // The 2 held-out bodies' truths are new drapes; the examples' are shared.
-  EXPECT_EQ(drapes(), cached + 2);
+  // The 2 held-out bodies' truths are the weights-drape method's drapes, cached: no new drape.
+  EXPECT_EQ(drapes(), cached);
+  ASSERT_EQ(own.overall_size(), 3);
+  const v1::MethodAccuracy& floor = own.overall(2);
+  EXPECT_EQ(floor.method(), "weights-drape");
+  EXPECT_GT(floor.error_mean_mm(), 0.5);
+  EXPECT_GT(floor.fit_microseconds(), 0);  // The drape's time.
+  // What the fit misses against the own meshes is about what it misses on the bodies of the
+  // weights and what the projection leaves out, in quadrature: the floor is most of it here.
+  const double own_error = own.overall(1).error_mean_mm();
+  const double parts = std::hypot(weights.overall(1).error_mean_mm(), floor.error_mean_mm());
+  EXPECT_LT(floor.error_mean_mm(), own_error);
+  EXPECT_GT(own_error, 0.7 * parts);
+  EXPECT_LT(own_error, 1.3 * parts);
   ASSERT_EQ(weights.overall_size(), 2);
   ASSERT_TRUE(weights.overall(1).cleanup());
   // A 2-component basis leaves the real bodies centimetres from the bodies of the weights: the
@@ -346,6 +360,11 @@ TEST_F(ClothingCliTest, EvalCanDrapeTheTruthOnTheBodyOfTheWeights) {
                                  "--truth-body", "skin", "--out", Path("truth-bad")});
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_THAT(bad.err, HasSubstr("--truth-body"));
+  const Result itself = RunFitbase({"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg"),
+                                    "--methods", "weights-drape", "--truth-body", "weights",
+                                    "--out", Path("truth-itself")});
+  EXPECT_NE(itself.exit_code, 0);
+  EXPECT_THAT(itself.err, HasSubstr("weights-drape is the drape on the body of the weights"));
 }
 
 TEST_F(ClothingCliTest, EvalAdviceComparesTheFastFitsSizeWithTheDrapes) {
