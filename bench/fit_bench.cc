@@ -9,7 +9,8 @@
 //     the same bytes: TermMajor's time over this one is what the runtime dispatch buys here;
 //   - BM_FitBatch64/N/V: 64 customers as one matrix product; `of_sgemm` is its FLOP rate
 //     over the SGEMM rate;
-//   - BM_FitKernel/N/V: the kernel model (N terms, 2N + 1 + 400 training bodies, 32 outputs);
+//   - BM_FitKernel/N/V/S: the kernel model (N terms, 2N + 1 + 400 training bodies, 32 outputs;
+//     S: the kernel's shape, 0 Gaussian, 1 Matern 3/2, which costs a square root per body more);
 //   - BM_FitCleanup/N/V/R: a fit plus the collision clean-up (ClothingFitter): vertex anchors
 //     only, as bases before guards had (R = 0), or with a guard per body vertex under the
 //     garment and R rounds of smoothing over a grid garment's edges (the default is
@@ -24,6 +25,7 @@
 #include "benchmark/benchmark.h"
 #include "clothing/clothing_fitter.h"
 #include "clothing/clothing_model.h"
+#include "core/kernel_ridge.h"
 #include "core/matrix_vector.h"
 #include "core/pca_basis.h"
 #include "fitbase/v1/clothing_basis.pb.h"
@@ -166,6 +168,7 @@ void BM_FitKernel(benchmark::State& state) {
   model.method = clothing::ClothingMethod::kKernel;
   model.basis.conservativeResize(Eigen::NoChange, 1 + n + kOutputs);
   model.basis.rightCols(kOutputs).setRandom();
+  model.kernel.shape = static_cast<core::KernelShape>(state.range(2));
   model.kernel.length_scale = 3.0f;
   model.kernel.input_scale = Eigen::VectorXf::Constant(n, 50.0f);
   model.kernel.centers = Eigen::MatrixXf::Random(n, centers);
@@ -311,7 +314,11 @@ BENCHMARK(BM_FitTermMajor)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitPortable)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitVertexMajor)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitBatch64)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_FitKernel)->Args({20, 2000})->Args({20, 8000})->Args({30, 8000})
+BENCHMARK(BM_FitKernel)
+    ->Args({20, 2000, 1})
+    ->Args({20, 8000, 0})
+    ->Args({20, 8000, 1})
+    ->Args({30, 8000, 1})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitCleanup)
     ->Args({30, 2000, 0})

@@ -73,10 +73,11 @@ absl::Status RunClothingBuild(const ClothingFlags& flags) {
   if (clothing.has_kernel()) {
     const v1::KernelCorrection& k = clothing.kernel();
     std::cout << absl::StrFormat(
-        "kernel correction: %d outputs over %d bodies (%s scaling, ridge %g); RMS miss per "
-        "vertex on them %.2f mm linear, %.2f mm corrected (each body left out)\n",
-        k.output_count(), k.center_count(), k.input_scaling(), k.ridge(), k.linear_rms_mm(),
-        k.loo_rms_mm());
+        "kernel correction: %d outputs over %d bodies (%s kernel, %s scaling, ridge %g); RMS "
+        "miss per vertex on them %.2f mm linear, %.2f mm corrected (each body left out)\n",
+        k.output_count(), k.center_count(),
+        k.shape() == v1::KernelCorrection::MATERN_3_2 ? "Matern 3/2" : "Gaussian",
+        k.input_scaling(), k.ridge(), k.linear_rms_mm(), k.loo_rms_mm());
   }
   std::cout << "wrote " << flags.out << "\n";
   return absl::OkStatus();

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include "Eigen/Eigenvalues"
@@ -131,6 +132,50 @@ absl::StatusOr<ClothingModel> BuildClothingModel(ClothingMethod method,
   return model;
 }
 
+namespace {
+
+struct ChosenKernel {
+  core::KernelRidge ridge;
+  Eigen::ArrayXd scale;  // N: z = w .* scale.
+  std::string scaling;   // KernelBuildReport::input_scaling.
+};
+
+// The kernel of one shape with the lowest leave-one-out error over the training bodies
+// (weights: N x M) and their misses (targets: M x C), as BuildKernelClothingModel describes;
+// nullopt if the bodies do not differ under either scaling.
+std::optional<ChosenKernel> ChooseKernel(core::KernelShape shape, const Eigen::MatrixXd& weights,
+                                         const Eigen::MatrixXd& targets,
+                                         const Eigen::ArrayXd& sigma_scale,
+                                         const Eigen::ArrayXd& response_scale) {
+  const Eigen::Index n = weights.rows(), m = weights.cols();
+  std::optional<ChosenKernel> best;
+  for (const auto& [name, scale] :
+       {std::pair<const char*, const Eigen::ArrayXd*>{"sigma", &sigma_scale},
+        std::pair<const char*, const Eigen::ArrayXd*>{"response", &response_scale}}) {
+    absl::StatusOr<core::KernelRidge> fitted = core::FitKernelRidge(
+        scale->matrix().asDiagonal() * weights, targets, {.shape = shape});
+    if (!fitted.ok()) continue;  // All inputs equal under this scaling: try the other.
+    if (!best || fitted->loo_rms < best->ridge.loo_rms) {
+      best = ChosenKernel{*std::move(fitted), *scale, name};
+    }
+  }
+  if (!best) return std::nullopt;
+  // One reach per component, from the better scaling: the linear model's misses follow a few
+  // components closely and most others loosely or not at all, which one length scale for all
+  // cannot say. A scaling with a zero (a component the linear model does not move the garment
+  // by) is not searched.
+  if (m >= kRelevanceBodiesPerComponent * n) {
+    absl::StatusOr<core::RelevanceFit> relevance = core::FitKernelRidgeRelevance(
+        weights, targets, best->scale.matrix() / best->ridge.length_scale, {.shape = shape});
+    if (relevance.ok() && relevance->model.loo_rms < best->ridge.loo_rms) {
+      best = ChosenKernel{std::move(relevance->model), relevance->scales.array(), "relevance"};
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
 absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& design,
                                                        const Eigen::MatrixXd& drapes,
                                                        const SampledDrapes& samples,
@@ -151,6 +196,7 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
   if (!(options.output_energy > 0 && options.output_energy <= 1) || options.max_outputs < 1) {
     return absl::InvalidArgumentError("kernel outputs need an energy in (0, 1] and a count >= 1");
   }
+  if (options.shapes.empty()) return absl::InvalidArgumentError("no kernel shape to choose from");
   ASSIGN_OR_RETURN(ClothingModel model,
                    BuildClothingModel(ClothingMethod::kLinear, design, drapes));
   model.method = ClothingMethod::kKernel;
@@ -203,47 +249,32 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
   chosen.linear_rms_mm = 1000 * linear_rms;
   chosen.loo_rms_mm = chosen.linear_rms_mm;
   if (outputs > 0) {
-    std::optional<core::KernelRidge> best;
-    Eigen::ArrayXd best_scale;
-    for (const auto& [name, scale] :
-         {std::pair<const char*, const Eigen::ArrayXd*>{"sigma", &sigma_scale},
-          std::pair<const char*, const Eigen::ArrayXd*>{"response", &response_scale}}) {
-      const Eigen::MatrixXd inputs =
-          scale->matrix().asDiagonal() * features.bottomRows(n);
-      absl::StatusOr<core::KernelRidge> fitted = core::FitKernelRidge(inputs, targets);
-      if (!fitted.ok()) continue;  // All inputs equal under this scaling: try the other.
-      if (!best || fitted->loo_rms < best->loo_rms) {
-        best = *std::move(fitted);
-        best_scale = *scale;
-        chosen.input_scaling = name;
+    // The kernel's shape is chosen like its reaches, by the leave-one-out error.
+    std::optional<ChosenKernel> best;
+    for (const core::KernelShape shape : options.shapes) {
+      std::optional<ChosenKernel> fitted = ChooseKernel(shape, features.bottomRows(n), targets,
+                                                        sigma_scale, response_scale);
+      if (fitted && (!best || fitted->ridge.loo_rms < best->ridge.loo_rms)) {
+        best = std::move(fitted);
       }
     }
     if (!best) {
       return absl::InvalidArgumentError("the sampled bodies do not differ in their weights");
     }
-    // One reach per component, from the better scaling: the linear model's misses follow a few
-    // components closely and most others loosely or not at all, which one length scale for all
-    // cannot say. A scaling with a zero (a component the linear model does not move the garment
-    // by) is not searched.
-    if (m >= kRelevanceBodiesPerComponent * n) {
-      absl::StatusOr<core::RelevanceFit> relevance = core::FitKernelRidgeRelevance(
-          features.bottomRows(n), targets, best_scale.matrix() / best->length_scale);
-      if (relevance.ok() && relevance->model.loo_rms < best->loo_rms) {
-        best = std::move(relevance->model);
-        best_scale = relevance->scales.array();
-        chosen.input_scaling = "relevance";
-      }
-    }
+    chosen.input_scaling = best->scaling;
+    chosen.shape = core::KernelShapeName(best->ridge.shape);
     const double discarded = std::max(0.0, total - kept);
-    chosen.length_scale = best->length_scale;
-    chosen.ridge = best->ridge;
+    const core::KernelRidge& ridge = best->ridge;
+    chosen.length_scale = ridge.length_scale;
+    chosen.ridge = ridge.ridge;
     chosen.loo_rms_mm =
-        1000 * std::sqrt((best->loo_rms * best->loo_rms * static_cast<double>(m) + discarded) /
+        1000 * std::sqrt((ridge.loo_rms * ridge.loo_rms * static_cast<double>(m) + discarded) /
                          (static_cast<double>(m) * vertices));
-    model.kernel.length_scale = static_cast<float>(best->length_scale);
-    model.kernel.input_scale = best_scale.cast<float>();
-    model.kernel.centers = best->centers.cast<float>();
-    model.kernel.coefficients = best->coefficients.cast<float>();
+    model.kernel.shape = ridge.shape;
+    model.kernel.length_scale = static_cast<float>(ridge.length_scale);
+    model.kernel.input_scale = best->scale.cast<float>();
+    model.kernel.centers = ridge.centers.cast<float>();
+    model.kernel.coefficients = ridge.coefficients.cast<float>();
     const Eigen::Index first = model.basis.cols();
     model.basis.conservativeResize(d, first + outputs);
     model.basis.rightCols(outputs) = directions.cast<float>();
@@ -333,15 +364,26 @@ void ComputeFeatures(const ClothingModel& model, const Weights& weights, Feature
   if (c == 0) return;
   auto outputs = features.tail(c);
   outputs.setZero();
-  const float scale = -0.5f / (kernel.length_scale * kernel.length_scale);
   const Eigen::Index n = kernel.centers.rows();
-  for (Eigen::Index j = 0; j < kernel.center_count(); ++j) {
+  const auto squared_distance = [&](Eigen::Index j) {
     float squared = 0;
     for (Eigen::Index k = 0; k < n; ++k) {
       const float delta = weights(k) * kernel.input_scale(k) - kernel.centers(k, j);
       squared += delta * delta;
     }
-    outputs += std::exp(scale * squared) * kernel.coefficients.col(j);
+    return squared;
+  };
+  const float inverse_l2 = 1.0f / (kernel.length_scale * kernel.length_scale);
+  if (kernel.shape == core::KernelShape::kGaussian) {
+    const float scale = -0.5f * inverse_l2;
+    for (Eigen::Index j = 0; j < kernel.center_count(); ++j) {
+      outputs += std::exp(scale * squared_distance(j)) * kernel.coefficients.col(j);
+    }
+    return;
+  }
+  for (Eigen::Index j = 0; j < kernel.center_count(); ++j) {
+    outputs += core::KernelOfScaledSquared(kernel.shape, squared_distance(j) * inverse_l2) *
+               kernel.coefficients.col(j);
   }
 }
 

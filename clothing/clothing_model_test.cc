@@ -187,14 +187,14 @@ double RmsError(const ClothingModel& model, const ExampleDesign& design,
 }
 
 ClothingModel KernelModel(const ExampleDesign& design, KernelBuildReport* report,
-                          int sample_count = 120) {
+                          int sample_count = 120, const KernelBuildOptions& options = {}) {
   Eigen::MatrixXd examples(kComponents, design.example_count());
   for (int e = 0; e < design.example_count(); ++e) examples.col(e) = design.Weights(e);
   SampledDrapes samples;
   samples.weights = SampleWeights(design, sample_count, 1);
   samples.drapes = SmoothDrape(design, samples.weights);
   absl::StatusOr<ClothingModel> model = BuildKernelClothingModel(
-      design, SmoothDrape(design, examples), samples, KernelBuildOptions{}, report);
+      design, SmoothDrape(design, examples), samples, options, report);
   EXPECT_TRUE(model.ok()) << model.status();
   return *std::move(model);
 }
@@ -226,6 +226,41 @@ TEST(KernelClothingModelTest, LearnsWhatTheLinearModelMissesOnNewBodies) {
   // At the mean body the linear model is exact and the correction adds next to nothing.
   EXPECT_LT((Fit(kernel, Eigen::VectorXd::Zero(kComponents)) - linear.mean()).cwiseAbs().maxCoeff(),
             2e-4);
+}
+
+TEST(KernelClothingModelTest, ChoosesTheKernelShapeOfTheLowerLeaveOneOutError) {
+  const ExampleDesign design = Design();
+  KernelBuildReport gaussian_report, matern_report, chosen_report;
+  const ClothingModel gaussian = KernelModel(design, &gaussian_report, 120,
+                                             {.shapes = {core::KernelShape::kGaussian}});
+  const ClothingModel matern = KernelModel(design, &matern_report, 120,
+                                           {.shapes = {core::KernelShape::kMatern32}});
+  const ClothingModel chosen = KernelModel(design, &chosen_report);
+  EXPECT_EQ(gaussian.kernel.shape, core::KernelShape::kGaussian);
+  EXPECT_EQ(matern.kernel.shape, core::KernelShape::kMatern32);
+  EXPECT_EQ(gaussian_report.shape, "gaussian");
+  EXPECT_EQ(matern_report.shape, "matern32");
+  const bool matern_better = matern_report.loo_rms_mm < gaussian_report.loo_rms_mm;
+  EXPECT_EQ(chosen.kernel.shape, matern_better ? matern.kernel.shape : gaussian.kernel.shape);
+  EXPECT_EQ(chosen_report.loo_rms_mm,
+            std::min(matern_report.loo_rms_mm, gaussian_report.loo_rms_mm));
+  EXPECT_EQ(chosen.basis, (matern_better ? matern : gaussian).basis);
+  EXPECT_TRUE(ValidateClothingModel(matern).ok());
+  // Far from every training body a Matern correction falls to 0 too, if more slowly than a
+  // Gaussian one (as exp(-r), not exp(-r^2 / 2)).
+  Eigen::VectorXd far = 100 * design.sigmas;
+  ClothingModel linear = matern;
+  linear.method = ClothingMethod::kLinear;
+  linear.basis.conservativeResize(Eigen::NoChange, 1 + linear.term_count());
+  linear.kernel = {};
+  EXPECT_LT((Fit(matern, far) - Fit(linear, far)).cwiseAbs().maxCoeff(), 1e-5);
+  const Eigen::MatrixXd held_out = SampleWeights(design, 40, 2);
+  EXPECT_LT(RmsError(matern, design, held_out), 0.5 * RmsError(linear, design, held_out));
+  EXPECT_THAT(BuildKernelClothingModel(design, ExampleDrapes(design),
+                                       {SampleWeights(design, 3, 1),
+                                        Eigen::MatrixXd::Zero(3 * kVertices, 3)},
+                                       {.shapes = {}}, nullptr),
+              StatusIs(absl::StatusCode::kInvalidArgument, "no kernel shape"));
 }
 
 TEST(KernelClothingModelTest, KeepsOneLengthScaleWithFewTrainingBodies) {

@@ -30,9 +30,14 @@ struct LengthFit {
   Eigen::MatrixXd coefficients;
 };
 
-LengthFit FitLength(const Eigen::MatrixXd& squared, double l, const Eigen::MatrixXd& targets,
-                    const std::vector<double>& ridges) {
-  const Eigen::MatrixXd kernel = (squared * (-0.5 / (l * l))).array().exp().matrix();
+LengthFit FitLength(KernelShape shape, const Eigen::MatrixXd& squared, double l,
+                    const Eigen::MatrixXd& targets, const std::vector<double>& ridges) {
+  const Eigen::MatrixXd kernel =
+      shape == KernelShape::kGaussian
+          ? Eigen::MatrixXd((squared * (-0.5 / (l * l))).array().exp().matrix())
+          : Eigen::MatrixXd((squared / (l * l)).unaryExpr([shape](double q) {
+              return KernelOfScaledSquared(shape, q);
+            }));
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(kernel);
   const Eigen::MatrixXd& q = eigen.eigenvectors();
   const Eigen::VectorXd values = eigen.eigenvalues().cwiseMax(0.0);
@@ -106,7 +111,7 @@ absl::StatusOr<KernelRidge> FitKernelRidge(const Eigen::MatrixXd& inputs,
   double best_loo = std::numeric_limits<double>::infinity();
   for (double factor : options.length_scale_factors) {
     const double l = factor * median;
-    const LengthFit fit = FitLength(squared, l, targets, options.ridges);
+    const LengthFit fit = FitLength(options.shape, squared, l, targets, options.ridges);
     if (fit.loo < best_loo) {
       best_loo = fit.loo;
       best.length_scale = l;
@@ -114,6 +119,7 @@ absl::StatusOr<KernelRidge> FitKernelRidge(const Eigen::MatrixXd& inputs,
       best.coefficients = fit.coefficients;
     }
   }
+  best.shape = options.shape;
   best.centers = inputs;
   best.loo_rms = std::sqrt(best_loo / static_cast<double>(m));
   best.train_rms = std::sqrt(targets.rowwise().squaredNorm().sum() / static_cast<double>(m));
@@ -136,7 +142,8 @@ absl::StatusOr<RelevanceFit> FitKernelRidgeRelevance(const Eigen::MatrixXd& inpu
         "relevance search needs sweeps >= 0, a step > 1 and max steps >= 1");
   }
   const auto evaluate = [&](const Eigen::VectorXd& scales) {
-    return FitLength(SquaredDistances(scales.asDiagonal() * inputs), 1.0, targets, options.ridges);
+    return FitLength(options.shape, SquaredDistances(scales.asDiagonal() * inputs), 1.0, targets,
+                     options.ridges);
   };
   Eigen::VectorXd scales = initial_scales;
   LengthFit best = evaluate(scales);
@@ -166,6 +173,7 @@ absl::StatusOr<RelevanceFit> FitKernelRidgeRelevance(const Eigen::MatrixXd& inpu
   }
   RelevanceFit result;
   result.scales = scales;
+  result.model.shape = options.shape;
   result.model.length_scale = 1.0;
   result.model.ridge = best.ridge;
   result.model.coefficients = best.coefficients;
@@ -176,14 +184,16 @@ absl::StatusOr<RelevanceFit> FitKernelRidgeRelevance(const Eigen::MatrixXd& inpu
   return result;
 }
 
+const char* KernelShapeName(KernelShape shape) {
+  return shape == KernelShape::kMatern32 ? "matern32" : "gaussian";
+}
+
 Eigen::VectorXd PredictKernelRidge(const KernelRidge& model, const Eigen::VectorXd& x) {
-  const Eigen::VectorXd k =
-      ((model.centers.colwise() - x).colwise().squaredNorm().transpose() *
-       (-0.5 / (model.length_scale * model.length_scale)))
-          .array()
-          .exp()
-          .matrix();
-  return model.coefficients * k;
+  const Eigen::VectorXd q = (model.centers.colwise() - x).colwise().squaredNorm().transpose() /
+                            (model.length_scale * model.length_scale);
+  const KernelShape shape = model.shape;
+  return model.coefficients *
+         q.unaryExpr([shape](double value) { return KernelOfScaledSquared(shape, value); });
 }
 
 }  // namespace fitbase::core

@@ -1,6 +1,8 @@
 #ifndef FITBASE_CORE_KERNEL_RIDGE_H_
 #define FITBASE_CORE_KERNEL_RIDGE_H_
 
+#include <cmath>
+#include <cstdint>
 #include <iterator>
 #include <vector>
 
@@ -9,11 +11,33 @@
 
 namespace fitbase::core {
 
-// Gaussian-kernel ridge regression, k(a, b) = exp(-|a - b|^2 / (2 l^2)):
+// The kernel's profile, as a function of q = |a - b|^2 / l^2 (stored in clothing bases: the
+// numbers never change meaning).
+enum class KernelShape : int32_t {
+  kGaussian = 0,  // exp(-q / 2): infinitely smooth.
+  // (1 + r) exp(-r), r = sqrt(3 q): the Matern kernel of smoothness 3/2, once differentiable.
+  // A drape is smooth where no contact starts or ends between bodies and kinks where one does,
+  // which a Gaussian, being smoother than that, can only approximate with many centres.
+  kMatern32 = 1,
+};
+
+template <typename T>
+T KernelOfScaledSquared(KernelShape shape, T q) {
+  if (shape == KernelShape::kMatern32) {
+    const T r = std::sqrt(T(3) * q);
+    return (T(1) + r) * std::exp(-r);
+  }
+  return std::exp(T(-0.5) * q);
+}
+
+const char* KernelShapeName(KernelShape shape);  // "gaussian", "matern32".
+
+// Kernel ridge regression with a radial kernel k(a, b) = K(|a - b|^2 / l^2) of some shape:
 //   y(x) = sum_j coefficients.col(j) * k(x, centers.col(j)).
 // Far from every center the prediction falls to zero, so a correction learned this way leaves
 // the model it corrects alone where it has seen no data.
 struct KernelRidge {
+  KernelShape shape = KernelShape::kGaussian;
   double length_scale = 1.0;      // l, in the inputs' unit.
   double ridge = 0.0;             // lambda, relative to k(x, x) = 1.
   Eigen::MatrixXd centers;        // d x M: the training inputs.
@@ -26,6 +50,7 @@ struct KernelRidge {
 inline constexpr double kRidgeGrid[] = {1e-4, 1e-3, 1e-2, 1e-1, 1.0};
 
 struct KernelRidgeOptions {
+  KernelShape shape = KernelShape::kGaussian;
   // Candidates for l, as multiples of the median distance between two training inputs.
   std::vector<double> length_scale_factors = {0.25, 0.35, 0.5, 0.7, 1.0, 1.4, 2.0};
   std::vector<double> ridges{std::begin(kRidgeGrid), std::end(kRidgeGrid)};
@@ -45,6 +70,7 @@ absl::StatusOr<KernelRidge> FitKernelRidge(const Eigen::MatrixXd& inputs,
 inline constexpr double kRelevanceGain = 1e-3;
 
 struct RelevanceOptions {
+  KernelShape shape = KernelShape::kGaussian;
   std::vector<double> ridges{std::begin(kRidgeGrid), std::end(kRidgeGrid)};
   int sweeps = 4;      // Passes over the inputs; the search stops early when one moves none.
   double step = 2.0;   // Factor of one move of a scale.

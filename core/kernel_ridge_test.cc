@@ -93,6 +93,57 @@ TEST(KernelRidgeTest, RelevanceSearchIgnoresAnInputTheTargetsDoNotFollow) {
               StatusIs(absl::StatusCode::kInvalidArgument, "2 finite scales"));
 }
 
+TEST(KernelRidgeTest, ShapesAreOneAtZeroAndFallWithDistance) {
+  for (const KernelShape shape : {KernelShape::kGaussian, KernelShape::kMatern32}) {
+    EXPECT_EQ(KernelOfScaledSquared(shape, 0.0), 1.0);
+    EXPECT_GT(KernelOfScaledSquared(shape, 1.0), KernelOfScaledSquared(shape, 2.0));
+    EXPECT_LT(KernelOfScaledSquared(shape, 400.0), 1e-6);
+    EXPECT_NEAR(KernelOfScaledSquared(shape, 2.0f), KernelOfScaledSquared(shape, 2.0), 1e-7);
+  }
+  EXPECT_DOUBLE_EQ(KernelOfScaledSquared(KernelShape::kGaussian, 1.0), std::exp(-0.5));
+  EXPECT_DOUBLE_EQ(KernelOfScaledSquared(KernelShape::kMatern32, 1.0),
+                   (1 + std::sqrt(3.0)) * std::exp(-std::sqrt(3.0)));
+  EXPECT_STREQ(KernelShapeName(KernelShape::kMatern32), "matern32");
+}
+
+// y = |x0| + 0.3 x1 kinks along x0 = 0, as a drape does where a contact starts. The Gaussian,
+// smooth to every order, rounds the kink off; the Matern 3/2 kernel, once differentiable, keeps
+// it, and the leave-one-out error says so.
+TEST(KernelRidgeTest, TheMaternKernelFollowsAKinkTheGaussianRoundsOff) {
+  Random random(8, 0);
+  const auto sample = [&](int m, Eigen::MatrixXd& inputs, Eigen::MatrixXd& targets) {
+    inputs.resize(2, m);
+    targets.resize(m, 1);
+    for (int i = 0; i < m; ++i) {
+      inputs(0, i) = random.Uniform(-2, 2);
+      inputs(1, i) = random.Uniform(-2, 2);
+      targets(i, 0) = std::abs(inputs(0, i)) + 0.3 * inputs(1, i);
+    }
+  };
+  Eigen::MatrixXd inputs, targets, test_inputs, test_targets;
+  sample(150, inputs, targets);
+  sample(200, test_inputs, test_targets);
+  const KernelRidge gaussian = Fitted(inputs, targets);
+  const KernelRidge matern = Fitted(inputs, targets, {.shape = KernelShape::kMatern32});
+  EXPECT_EQ(gaussian.shape, KernelShape::kGaussian);
+  EXPECT_EQ(matern.shape, KernelShape::kMatern32);
+  const auto held_out_rms = [&](const KernelRidge& model) {
+    double squared = 0;
+    for (int i = 0; i < test_inputs.cols(); ++i) {
+      squared += std::pow(PredictKernelRidge(model, test_inputs.col(i))(0) - test_targets(i, 0), 2);
+    }
+    return std::sqrt(squared / static_cast<double>(test_inputs.cols()));
+  };
+  EXPECT_LT(matern.loo_rms, 0.8 * gaussian.loo_rms) << matern.loo_rms << " " << gaussian.loo_rms;
+  EXPECT_LT(held_out_rms(matern), 0.9 * held_out_rms(gaussian));
+  absl::StatusOr<RelevanceFit> relevance =
+      FitKernelRidgeRelevance(inputs, targets, Eigen::Vector2d::Constant(1 / matern.length_scale),
+                              {.shape = KernelShape::kMatern32});
+  ASSERT_TRUE(relevance.ok()) << relevance.status();
+  EXPECT_EQ(relevance->model.shape, KernelShape::kMatern32);
+  EXPECT_LE(relevance->model.loo_rms, matern.loo_rms);
+}
+
 TEST(KernelRidgeTest, IsDeterministic) {
   Eigen::MatrixXd inputs, targets;
   Sample(80, 5, inputs, targets);

@@ -1,11 +1,16 @@
 #include "proto/clothing_basis_codec.h"
 
 #include "absl/strings/str_cat.h"
+#include "core/kernel_ridge.h"
 #include "core/status_macros.h"
 #include "proto/garment_codec.h"
 #include "proto/mesh_codec.h"
 
 namespace fitbase::proto {
+
+// Kernel shapes are stored by their number.
+static_assert(static_cast<int>(core::KernelShape::kGaussian) == v1::KernelCorrection::GAUSSIAN);
+static_assert(static_cast<int>(core::KernelShape::kMatern32) == v1::KernelCorrection::MATERN_3_2);
 namespace {
 
 // The garment's faces as the basis stores them, positioned at the clothing mean.
@@ -41,6 +46,7 @@ void ClothingModelToProto(const clothing::ClothingModel& model, v1::ClothingBasi
   }
   const clothing::KernelCorrection& kernel = model.kernel;
   v1::KernelCorrection* out = message->mutable_kernel();
+  out->set_shape(static_cast<v1::KernelCorrection::Shape>(kernel.shape));
   out->set_length_scale(kernel.length_scale);
   out->mutable_input_scale()->Assign(kernel.input_scale.begin(), kernel.input_scale.end());
   out->set_center_count(static_cast<uint32_t>(kernel.center_count()));
@@ -109,6 +115,12 @@ absl::StatusOr<clothing::ClothingModel> ClothingModelFromProto(const v1::Clothin
   model.basis.middleCols(1, t) = Eigen::Map<const Eigen::MatrixXf>(message.terms().data(), d, t);
   model.basis.rightCols(c) = Eigen::Map<const Eigen::MatrixXf>(kernel.outputs().data(), d, c);
   if (method == clothing::ClothingMethod::kKernel) {
+    if (!v1::KernelCorrection::Shape_IsValid(kernel.shape())) {
+      return absl::InvalidArgumentError(absl::StrCat("clothing basis ", message.id(),
+                                                     " has a kernel of unknown shape ",
+                                                     static_cast<int>(kernel.shape())));
+    }
+    model.kernel.shape = static_cast<core::KernelShape>(kernel.shape());
     model.kernel.length_scale = kernel.length_scale();
     model.kernel.input_scale = Eigen::Map<const Eigen::VectorXf>(kernel.input_scale().data(), n);
     model.kernel.centers = Eigen::Map<const Eigen::MatrixXf>(kernel.centers().data(), n, m);

@@ -73,6 +73,7 @@ TEST(ClothingBasisCodecTest, RoundTripsAKernelModelAndItsFit) {
   const absl::StatusOr<clothing::ClothingModel> model = ClothingModelFromProto(message);
   ASSERT_TRUE(model.ok()) << model.status();
   EXPECT_EQ(model->basis, original.basis);
+  EXPECT_EQ(model->kernel.shape, core::KernelShape::kGaussian);
   EXPECT_EQ(model->kernel.centers, original.kernel.centers);
   EXPECT_EQ(model->kernel.coefficients, original.kernel.coefficients);
   Eigen::VectorXf features, a, b;
@@ -80,6 +81,24 @@ TEST(ClothingBasisCodecTest, RoundTripsAKernelModelAndItsFit) {
   clothing::FitClothing(original, weights, features, a);
   clothing::FitClothing(*model, weights, features, b);
   EXPECT_EQ(a, b);
+
+  // A Matern kernel keeps its shape; a shape this reader does not know is refused.
+  clothing::ClothingModel matern = original;
+  matern.kernel.shape = core::KernelShape::kMatern32;
+  v1::ClothingBasis matern_message;
+  ClothingModelToProto(matern, &matern_message);
+  EXPECT_EQ(matern_message.kernel().shape(), v1::KernelCorrection::MATERN_3_2);
+  const absl::StatusOr<clothing::ClothingModel> matern_read = ClothingModelFromProto(matern_message);
+  ASSERT_TRUE(matern_read.ok()) << matern_read.status();
+  EXPECT_EQ(matern_read->kernel.shape, core::KernelShape::kMatern32);
+  clothing::FitClothing(matern, weights, features, a);
+  clothing::FitClothing(*matern_read, weights, features, b);
+  EXPECT_EQ(a, b);
+  clothing::FitClothing(original, weights, features, b);
+  EXPECT_NE(a, b);
+  matern_message.mutable_kernel()->set_shape(static_cast<v1::KernelCorrection::Shape>(7));
+  EXPECT_THAT(ClothingModelFromProto(matern_message),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "unknown shape 7"));
 
   v1::ClothingBasis short_outputs = message;
   short_outputs.mutable_kernel()->mutable_outputs()->RemoveLast();
