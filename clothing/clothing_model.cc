@@ -249,9 +249,12 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
   chosen.linear_rms_mm = 1000 * linear_rms;
   chosen.loo_rms_mm = chosen.linear_rms_mm;
   if (outputs > 0) {
-    // The kernel's shape is chosen like its reaches, by the leave-one-out error.
+    // The kernel's shape is chosen like its reaches, by the leave-one-out error, and only where
+    // the reaches are (KernelBuildOptions::shapes says why).
+    const bool relevance = m >= kRelevanceBodiesPerComponent * n;
     std::optional<ChosenKernel> best;
     for (const core::KernelShape shape : options.shapes) {
+      if (!relevance && shape != options.shapes.front()) continue;
       std::optional<ChosenKernel> fitted = ChooseKernel(shape, features.bottomRows(n), targets,
                                                         sigma_scale, response_scale);
       if (fitted && (!best || fitted->ridge.loo_rms < best->ridge.loo_rms)) {

@@ -269,6 +269,11 @@ TEST(KernelClothingModelTest, KeepsOneLengthScaleWithFewTrainingBodies) {
   // 9 axis examples and 20 samples: fewer than kRelevanceBodiesPerComponent per component.
   const ClothingModel kernel = KernelModel(design, &report, 20);
   EXPECT_THAT(report.input_scaling, ::testing::AnyOf("sigma", "response"));
+  // And the first shape of the options, the Gaussian, whatever the leave-one-out error says.
+  EXPECT_EQ(kernel.kernel.shape, core::KernelShape::kGaussian);
+  const ClothingModel matern =
+      KernelModel(design, &report, 20, {.shapes = {core::KernelShape::kMatern32}});
+  EXPECT_EQ(matern.kernel.shape, core::KernelShape::kMatern32);
   EXPECT_TRUE(ValidateClothingModel(kernel).ok());
 }
 
