@@ -376,14 +376,14 @@ void ComputeFeatures(const ClothingModel& model, const Weights& weights, Feature
     }
     return squared;
   };
-  const float inverse_l2 = 1.0f / (kernel.length_scale * kernel.length_scale);
   if (kernel.shape == core::KernelShape::kGaussian) {
-    const float scale = -0.5f * inverse_l2;
+    const float scale = -0.5f / (kernel.length_scale * kernel.length_scale);
     for (Eigen::Index j = 0; j < kernel.center_count(); ++j) {
       outputs += std::exp(scale * squared_distance(j)) * kernel.coefficients.col(j);
     }
     return;
   }
+  const float inverse_l2 = 1.0f / (kernel.length_scale * kernel.length_scale);
   for (Eigen::Index j = 0; j < kernel.center_count(); ++j) {
     outputs += core::KernelOfScaledSquared(kernel.shape, squared_distance(j) * inverse_l2) *
                kernel.coefficients.col(j);
