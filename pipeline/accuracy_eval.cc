@@ -698,6 +698,17 @@ std::string AccuracyReportMarkdown(const v1::AccuracyReport& report) {
             "Phi w, what the fit is made for), not its own mesh, so the projection's part of the "
             "error is left out"
           : "the real held-out body");
+  const bool floor =
+      std::any_of(report.overall().begin(), report.overall().end(),
+                  [](const v1::MethodAccuracy& r) { return r.method() == kWeightsDrape; });
+  if (floor) {
+    absl::StrAppend(&md, absl::StrFormat(
+                             "%s: the drape on each held-out avatar's body of the weights, shown "
+                             "on that body like a fit (its fit us: the drape's time). A fit "
+                             "takes only the weights, so even a perfect one misses by this much: "
+                             "the projection's part of every fit's error.\n",
+                             kWeightsDrape));
+  }
   for (const v1::GarmentAccuracy& g : report.garments()) {
     absl::StrAppend(&md, absl::StrFormat(
                              "\n## %s (%d vertices)\n\nDrape: %.2f s mean; %d of %d held-out "

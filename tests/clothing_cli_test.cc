@@ -338,6 +338,8 @@ TEST_F(ClothingCliTest, EvalCanDrapeTheTruthOnTheBodyOfTheWeights) {
   EXPECT_EQ(floor.method(), "weights-drape");
   EXPECT_GT(floor.error_mean_mm(), 0.5);
   EXPECT_GT(floor.fit_microseconds(), 0);  // The drape's time.
+  EXPECT_THAT(*core::ReadFileToString(Path("truth-own/report.md")),
+              HasSubstr("weights-drape: the drape on each held-out avatar's body of the weights"));
   // What the fit misses against the own meshes is about what it misses on the bodies of the
   // weights and what the projection leaves out, in quadrature: the floor is most of it here.
   const double own_error = own.overall(1).error_mean_mm();
