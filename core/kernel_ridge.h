@@ -16,8 +16,8 @@ namespace fitbase::core {
 enum class KernelShape : int32_t {
   kGaussian = 0,  // exp(-q / 2): infinitely smooth.
   // (1 + r) exp(-r), r = sqrt(3 q): the Matern kernel of smoothness 3/2, once differentiable.
-  // A drape is smooth where no contact starts or ends between bodies and kinks where one does,
-  // which a Gaussian, being smoother than that, can only approximate with many centres.
+  // It follows a function that kinks, which a Gaussian, smooth to every order, rounds off
+  // unless it has many centres near the kink.
   kMatern32 = 1,
 };
 
