@@ -8,6 +8,7 @@
 #include "cli/cli_context.h"
 #include "core/file_util.h"
 #include "core/garment_obj.h"
+#include "core/kernel_ridge.h"
 #include "core/obj_io.h"
 #include "core/status_macros.h"
 #include "pipeline/avatar_file.h"
@@ -76,8 +77,8 @@ absl::Status RunClothingBuild(const ClothingFlags& flags) {
         "kernel correction: %d outputs over %d bodies (%s kernel, %s scaling, ridge %g); RMS "
         "miss per vertex on them %.2f mm linear, %.2f mm corrected (each body left out)\n",
         k.output_count(), k.center_count(),
-        k.shape() == v1::KernelCorrection::MATERN_3_2 ? "Matern 3/2" : "Gaussian",
-        k.input_scaling(), k.ridge(), k.linear_rms_mm(), k.loo_rms_mm());
+        core::KernelShapeName(static_cast<core::KernelShape>(k.shape())), k.input_scaling(),
+        k.ridge(), k.linear_rms_mm(), k.loo_rms_mm());
   }
   std::cout << "wrote " << flags.out << "\n";
   return absl::OkStatus();

@@ -376,6 +376,8 @@ void ComputeFeatures(const ClothingModel& model, const Weights& weights, Feature
     }
     return squared;
   };
+  // The Gaussian keeps the arithmetic it had before there were shapes: older bases fit to the
+  // same bytes.
   if (kernel.shape == core::KernelShape::kGaussian) {
     const float scale = -0.5f / (kernel.length_scale * kernel.length_scale);
     for (Eigen::Index j = 0; j < kernel.center_count(); ++j) {

@@ -32,6 +32,8 @@ struct LengthFit {
 
 LengthFit FitLength(KernelShape shape, const Eigen::MatrixXd& squared, double l,
                     const Eigen::MatrixXd& targets, const std::vector<double>& ridges) {
+  // The Gaussian keeps the arithmetic it had before there were shapes, so its models are the
+  // same bytes as before.
   const Eigen::MatrixXd kernel =
       shape == KernelShape::kGaussian
           ? Eigen::MatrixXd((squared * (-0.5 / (l * l))).array().exp().matrix())
@@ -185,7 +187,13 @@ absl::StatusOr<RelevanceFit> FitKernelRidgeRelevance(const Eigen::MatrixXd& inpu
 }
 
 const char* KernelShapeName(KernelShape shape) {
-  return shape == KernelShape::kMatern32 ? "matern32" : "gaussian";
+  switch (shape) {
+    case KernelShape::kGaussian:
+      return "gaussian";
+    case KernelShape::kMatern32:
+      return "matern32";
+  }
+  return "unknown";
 }
 
 Eigen::VectorXd PredictKernelRidge(const KernelRidge& model, const Eigen::VectorXd& x) {
