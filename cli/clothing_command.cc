@@ -2,6 +2,7 @@
 #include <chrono>
 #include <iostream>
 #include <optional>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -90,6 +91,7 @@ struct FitFlags {
   std::string basis;
   std::string weights;
   bool no_cleanup = false;
+  std::string fit_body = "weights";
   std::string out;
   std::string body_out;
 };
@@ -133,6 +135,9 @@ absl::Status RunFit(const FitFlags& flags) {
   if (flags.avatar.empty() == flags.weights.empty()) {
     return absl::InvalidArgumentError("give exactly one of --avatar and --weights");
   }
+  if (flags.fit_body == "own" && flags.avatar.empty()) {
+    return absl::InvalidArgumentError("--fit-body own fits --avatar's mesh; give --avatar");
+  }
   if (!flags.body_out.empty() && flags.basis.empty()) {
     return absl::InvalidArgumentError(
         "--body-out needs --basis, whose mean and components make the body");
@@ -157,7 +162,18 @@ absl::Status RunFit(const FitFlags& flags) {
   clothing::FitScratch scratch;
   Eigen::VectorXf positions;
   const auto start = std::chrono::steady_clock::now();
-  ASSIGN_OR_RETURN(int64_t moved, fitter.Fit(w, !flags.no_cleanup, scratch, positions));
+  std::vector<float> own_body;
+  if (flags.fit_body == "own") {
+    ASSIGN_OR_RETURN(const core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
+    const Eigen::VectorXf xyz = Eigen::Map<const Eigen::VectorXd>(avatar.positions.data(),
+                                                                  avatar.positions.size())
+                                    .cast<float>();
+    own_body.assign(xyz.data(), xyz.data() + xyz.size());
+  }
+  ASSIGN_OR_RETURN(int64_t moved,
+                   own_body.empty()
+                       ? fitter.Fit(w, !flags.no_cleanup, scratch, positions)
+                       : fitter.FitToBody(w, own_body, !flags.no_cleanup, scratch, positions));
   const double micros =
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
   mesh.mesh.positions =
@@ -170,10 +186,11 @@ absl::Status RunFit(const FitFlags& flags) {
     std::cout << absl::StrFormat("wrote %s (the body of the weights)\n", flags.body_out);
   }
   std::cout << absl::StrFormat(
-      "fit %s size %s (%s, %d weights, avatar reconstruction error %.2f mm): %.0f us, "
+      "fit %s size %s (%s, %d weights, avatar reconstruction error %.2f mm) to %s: %.0f us, "
       "clean-up %s (%d vertices pushed out)\nwrote %s\n",
       clothing.garment_id().substr(0, 12), clothing.size(), clothing.method(),
-      weights.weights_size(), weights.mean_error_mm(), micros,
+      weights.weights_size(), weights.mean_error_mm(),
+      own_body.empty() ? "the body of the weights" : "the avatar's own mesh", micros,
       flags.no_cleanup ? "off" : "on", moved, flags.out);
   return absl::OkStatus();
 }
@@ -220,6 +237,11 @@ void AddClothingCommands(CLI::App& app, CliContext& context) {
                   "Customer weights as JSON (`fitbase basis project --json`)");
   fit->add_flag("--no-cleanup", fit_flags->no_cleanup,
                 "Skip pushing vertices out of the customer's body");
+  fit->add_option("--fit-body", fit_flags->fit_body,
+                  "The body the garment is fitted to: weights (the body of the weights, mean + "
+                  "components x weights) or own (--avatar's own mesh: the fit follows what the "
+                  "projection left out, and the clean-up clears the mesh) (default: weights)")
+      ->check(CLI::IsMember({"own", "weights"}));
   fit->add_option("--body-out", fit_flags->body_out,
                   "Also write the body the fit is made for, mean + components x weights (the "
                   "body the fit service returns), as an OBJ; needs --basis");

@@ -24,6 +24,7 @@ struct EvalFlags {
   uint64_t seed = 2;
   std::string preset;
   std::string truth_body = "own";
+  std::string fit_body = "weights";
   std::string methods = "paper,linear,quadratic,nearest,geometric";
   double scale = 1.0;
   int samples = 0;
@@ -59,6 +60,7 @@ absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
   spec.holdout_seed = flags.seed;
   spec.preset = flags.preset;
   spec.truth_on_weights_body = flags.truth_body == "weights";
+  spec.fit_on_own_body = flags.fit_body == "own";
   spec.methods = absl::StrSplit(flags.methods, ',', absl::SkipWhitespace());
   spec.example_scale = flags.scale;
   spec.sampled_drapes = flags.samples;
@@ -112,6 +114,12 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
                    "What the ground-truth drapes are on: own (each held-out avatar's mesh) or "
                    "weights (its body of the weights, which the fit is made for: the error "
                    "without the projection's part) (default: own)")
+      ->check(CLI::IsMember({"own", "weights"}));
+  eval->add_option("--fit-body", flags->fit_body,
+                   "What the fits are made for and shown on: weights (each held-out avatar's "
+                   "body of the weights, as the fit service does when given only weights) or "
+                   "own (its own mesh, as the service does when given the mesh too; not with "
+                   "--truth-body weights) (default: weights)")
       ->check(CLI::IsMember({"own", "weights"}));
   eval->add_option("--methods", flags->methods,
                    "Comma-separated: paper, linear, quadratic, kernel, nearest, geometric, "

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <span>
 #include <utility>
 
 #include "Eigen/Geometry"
@@ -152,6 +153,46 @@ void Apply(const ClearanceRequest& request, float* field) {
     if (request.weights[i] == 0) continue;
     Point4(field, request.vertices[i]) += (request.weights[i] * step) * request.normal;
   }
+}
+
+// Body points padded to 4 floats (w = 0) for aligned loads; points: 3U, body4: 4U.
+void PadBodyPoints(const Eigen::VectorXf& points, Eigen::VectorXf& body4) {
+  const Eigen::Index u = points.size() / 3;
+  if (body4.size() != 4 * u) body4.setZero(4 * u);
+  for (Eigen::Index i = 0; i < u; ++i) body4.segment<3>(4 * i) = points.segment<3>(3 * i);
+}
+
+// The row of garment vertex v's anchor nearest g among its K, on the padded body points.
+Eigen::Index NearestAnchor(const BodyCorrespondence& correspondence, const float* body4,
+                           const F4& g, Eigen::Index v) {
+  const int k = correspondence.anchors_per_vertex;
+  const int32_t* anchor_corners = correspondence.corners.data();
+  const float* anchor_barycentric = correspondence.barycentric.data();
+  const auto point4 = [&](int32_t i) { return LoadF4(body4 + 4 * static_cast<Eigen::Index>(i)); };
+  const auto anchor4 = [&](Eigen::Index r) {
+    const int32_t* c = anchor_corners + 3 * r;
+    const float* b = anchor_barycentric + 3 * r;
+    return b[0] * point4(c[0]) + b[1] * point4(c[1]) + b[2] * point4(c[2]);
+  };
+  // Anchors four at a time, their squared distances summed across lanes together; a last
+  // group short of four repeats the vertex's first anchor, which never wins a tie.
+  Eigen::Index nearest = v * k;
+  float best = std::numeric_limits<float>::infinity();
+  for (Eigen::Index r0 = v * k; r0 < (v + 1) * k; r0 += 4) {
+    Eigen::Index rows[4];
+    F4 squares[4];
+    for (int j = 0; j < 4; ++j) {
+      rows[j] = r0 + j < (v + 1) * k ? r0 + j : v * k;
+      const F4 d = g - anchor4(rows[j]);
+      squares[j] = d * d;
+    }
+    const F4 distances = SumLanes(squares);
+    for (int j = 0; j < 4; ++j) {
+      nearest = distances[j] < best ? rows[j] : nearest;
+      best = distances[j] < best ? distances[j] : best;
+    }
+  }
+  return nearest;
 }
 
 }  // namespace
@@ -384,52 +425,94 @@ absl::Status ValidateBodyCorrespondence(const BodyCorrespondence& correspondence
   return absl::OkStatus();
 }
 
+void BodyPointsOfWeights(const BodyCorrespondence& correspondence,
+                         const Eigen::VectorXf& weights, Eigen::VectorXf& points) {
+  points = correspondence.body_mean;
+  core::MultiplyAccumulate(correspondence.body_components, weights, points);
+}
+
+absl::Status GatherBodyPoints(const BodyCorrespondence& correspondence,
+                              std::span<const float> avatar, Eigen::VectorXf& points) {
+  if (avatar.size() % 3 != 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("the body has ", avatar.size(), " coordinates, not a multiple of 3"));
+  }
+  const int64_t avatar_vertices = static_cast<int64_t>(avatar.size() / 3);
+  const Eigen::Index u = static_cast<Eigen::Index>(correspondence.body_vertices.size());
+  points.resize(3 * u);
+  for (Eigen::Index i = 0; i < u; ++i) {
+    const int64_t b = correspondence.body_vertices[i];
+    if (b < 0 || b >= avatar_vertices) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("the body has ", avatar_vertices, " vertices; the garment's clean-up uses ",
+                       "vertex ", b, ": not the avatar topology the garment was built on"));
+    }
+    for (int c = 0; c < 3; ++c) {
+      const float x = avatar[static_cast<size_t>(3 * b + c)];
+      if (!std::isfinite(x)) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("body vertex ", b, " has a non-finite coordinate"));
+      }
+      points(3 * i + c) = x;
+    }
+  }
+  return absl::OkStatus();
+}
+
+void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& fitted_for,
+                const Eigen::VectorXf& body, CleanupScratch& scratch, float* positions) {
+  Eigen::VectorXf& from4 = scratch.body4;
+  PadBodyPoints(fitted_for, from4);
+  const int32_t* anchor_corners = correspondence.corners.data();
+  const float* anchor_barycentric = correspondence.barycentric.data();
+  const auto point4 = [&](int32_t i) {
+    return LoadF4(from4.data() + 4 * static_cast<Eigen::Index>(i));
+  };
+  for (Eigen::Index v = 0; v < correspondence.vertex_count(); ++v) {
+    float* gv = positions + 3 * v;
+    const F4 g = {gv[0], gv[1], gv[2], 0};
+    const Eigen::Index nearest = NearestAnchor(correspondence, from4.data(), g, v);
+    const int32_t* c = anchor_corners + 3 * nearest;
+    const float* b = anchor_barycentric + 3 * nearest;
+    const F4 a = point4(c[0]);
+    const F4 cross = Cross(point4(c[1]) - a, point4(c[2]) - a);
+    const float area2 = Dot(cross, cross);
+    if (!(area2 > 0)) continue;
+    Eigen::Vector3f moved = Eigen::Vector3f::Zero();
+    for (int i = 0; i < 3; ++i) {
+      moved += b[i] * (body.segment<3>(3 * static_cast<Eigen::Index>(c[i])) -
+                       fitted_for.segment<3>(3 * static_cast<Eigen::Index>(c[i])));
+    }
+    const Eigen::Vector3f normal(cross[0], cross[1], cross[2]);
+    const Eigen::Vector3f along = (moved.dot(normal) / area2) * normal;
+    for (int i = 0; i < 3; ++i) gv[i] += along[i];
+  }
+}
+
 int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& weights,
                       CleanupScratch& scratch, float* positions) {
-  Eigen::VectorXf& body = scratch.body;
-  body = correspondence.body_mean;
-  core::MultiplyAccumulate(correspondence.body_components, weights, body);
+  BodyPointsOfWeights(correspondence, weights, scratch.body);
+  return PushOutOfBodyPoints(correspondence, scratch.body, scratch, positions);
+}
+
+int64_t PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
+                            const Eigen::VectorXf& body, CleanupScratch& scratch,
+                            float* positions) {
   const float offset = static_cast<float>(correspondence.offset);
-  const int k = correspondence.anchors_per_vertex;
   const Eigen::Index vertex_count = correspondence.vertex_count();
   auto& requests = scratch.requests;
   requests.clear();
   requests.reserve(static_cast<size_t>(vertex_count + correspondence.guard_triangles.rows()));
   const int32_t* anchor_corners = correspondence.corners.data();
-  const float* anchor_barycentric = correspondence.barycentric.data();
-  const Eigen::Index u = static_cast<Eigen::Index>(correspondence.body_vertices.size());
   Eigen::VectorXf& body4 = scratch.body4;
-  if (body4.size() != 4 * u) body4.setZero(4 * u);
-  for (Eigen::Index i = 0; i < u; ++i) body4.segment<3>(4 * i) = body.segment<3>(3 * i);
+  PadBodyPoints(body, body4);
   const auto point4 = [&](int32_t i) {
     return LoadF4(body4.data() + 4 * static_cast<Eigen::Index>(i));
-  };
-  const auto anchor4 = [&](Eigen::Index r) {
-    const int32_t* c = anchor_corners + 3 * r;
-    const float* b = anchor_barycentric + 3 * r;
-    return b[0] * point4(c[0]) + b[1] * point4(c[1]) + b[2] * point4(c[2]);
   };
   for (Eigen::Index v = 0; v < vertex_count; ++v) {
     const float* gv = positions + 3 * v;
     const F4 g = {gv[0], gv[1], gv[2], 0};
-    // Anchors four at a time, their squared distances summed across lanes together; a last
-    // group short of four repeats the vertex's first anchor, which never wins a tie.
-    Eigen::Index nearest = v * k;
-    float best = std::numeric_limits<float>::infinity();
-    for (Eigen::Index r0 = v * k; r0 < (v + 1) * k; r0 += 4) {
-      Eigen::Index rows[4];
-      F4 squares[4];
-      for (int j = 0; j < 4; ++j) {
-        rows[j] = r0 + j < (v + 1) * k ? r0 + j : v * k;
-        const F4 d = g - anchor4(rows[j]);
-        squares[j] = d * d;
-      }
-      const F4 distances = SumLanes(squares);
-      for (int j = 0; j < 4; ++j) {
-        nearest = distances[j] < best ? rows[j] : nearest;
-        best = distances[j] < best ? distances[j] : best;
-      }
-    }
+    const Eigen::Index nearest = NearestAnchor(correspondence, body4.data(), g, v);
     // Only the nearest anchor's plane is needed: its normal is computed once, not per anchor.
     // The anchor lies in its triangle's plane, so the height is measured from a corner; times
     // |cross|, so that a vertex clear of the plane is passed over without a root or a division.

@@ -19,4 +19,17 @@ absl::StatusOr<int64_t> ClothingFitter::Fit(const Eigen::VectorXf& weights, bool
   return cleanup ? PushOutOfBody(correspondence_, weights, scratch.cleanup, out.data()) : 0;
 }
 
+absl::StatusOr<int64_t> ClothingFitter::FitToBody(const Eigen::VectorXf& weights,
+                                                  std::span<const float> body, bool cleanup,
+                                                  FitScratch& scratch,
+                                                  Eigen::VectorXf& out) const {
+  RETURN_IF_ERROR(CheckFitWeights(model_, weights));
+  CleanupScratch& c = scratch.cleanup;
+  RETURN_IF_ERROR(GatherBodyPoints(correspondence_, body, c.own_body));
+  FitClothing(model_, weights, scratch.features, out);
+  BodyPointsOfWeights(correspondence_, weights, c.body);
+  FollowBody(correspondence_, c.body, c.own_body, c, out.data());
+  return cleanup ? PushOutOfBodyPoints(correspondence_, c.own_body, c, out.data()) : 0;
+}
+
 }  // namespace fitbase::clothing

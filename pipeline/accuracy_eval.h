@@ -35,6 +35,9 @@ struct AccuracyEvalSpec {
   // body the fit is made for) instead of its own mesh, and penetration measured against that
   // body: the error without the projection's part.
   bool truth_on_weights_body = false;
+  // The model rows fit each held-out avatar's own mesh (ClothingFitter::FitToBody) and are
+  // shown on it, instead of the body of the weights. Not with truth_on_weights_body.
+  bool fit_on_own_body = false;
   // Any of paper, linear, quadratic, kernel (needs sampled_drapes), nearest, geometric,
   // kWeightsDrape (not with truth_on_weights_body).
   std::vector<std::string> methods = {"paper", "linear", "quadratic", "nearest", "geometric"};

@@ -199,6 +199,82 @@ TEST_F(FitServiceTest, AFitOverGrpcMatchesTheLocalFitWithinTheDracoQuantization)
   EXPECT_LT(worst_draco, bound + 1e-5);
 }
 
+TEST_F(FitServiceTest, AFitToTheOwnMeshFollowsItAndMatchesTheLocalFit) {
+  const v1::AvatarProjection projection = Project(3);
+  const v1::ProjectAvatarRequest own = AvatarRequest(3, /*draco=*/false);
+  v1::FitGarmentRequest request = FitRequest(projection.weights());
+  request.set_encoding(v1::POSITIONS_ENCODING_RAW);
+  v1::FittedGarment of_weights;
+  ASSERT_TRUE(stub_->FitGarment(Call(TestKeys::kCustomer).get(), request, &of_weights).ok());
+  *request.mutable_body() = own.avatar();
+  v1::FittedGarment on_own;
+  ASSERT_TRUE(stub_->FitGarment(Call(TestKeys::kCustomer).get(), request, &on_own).ok());
+  const int64_t vertices = garment_.template_mesh().vertex_count();
+  auto a = proto::DecodePositions(of_weights.positions(), vertices);
+  auto b = proto::DecodePositions(on_own.positions(), vertices);
+  ASSERT_TRUE(a.ok() && b.ok());
+  double moved = 0;
+  for (int64_t i = 0; i < 3 * vertices; ++i) {
+    moved = std::max(moved, static_cast<double>(std::abs((*a)[i] - (*b)[i])));
+  }
+  EXPECT_GT(moved, 1e-4);  // The projection leaves millimetres out of the body.
+
+  const Result local = RunFitbase(
+      {"fit", "--clothing", (SmallCatalogue() / "M-linear.fbc").string(), "--avatar",
+       (SmallCatalogue() / "pop" / "avatar-00003.obj").string(), "--basis",
+       (SmallCatalogue() / "b.fbb").string(), "--fit-body", "own", "--out",
+       (dir_ / "local.obj").string()});
+  ASSERT_EQ(local.exit_code, 0) << local.err;
+  EXPECT_THAT(local.out, HasSubstr("to the avatar's own mesh"));
+  auto expected = core::ReadGarmentObj(dir_ / "local.obj");
+  ASSERT_TRUE(expected.ok());
+  double worst = 0;
+  for (int64_t i = 0; i < 3 * vertices; ++i) {
+    worst = std::max(worst, std::abs((*b)[i] - expected->mesh.positions.data()[i]));
+  }
+  EXPECT_LT(worst, 1e-5);
+
+  // An outfit carries the mesh to every item.
+  v1::FitOutfitRequest outfit_request;
+  *outfit_request.mutable_weights() = projection.weights();
+  *outfit_request.mutable_body() = own.avatar();
+  outfit_request.set_encoding(v1::POSITIONS_ENCODING_RAW);
+  outfit_request.add_items()->set_garment_id(garment_.id());
+  v1::FitOutfitResponse outfit;
+  ASSERT_TRUE(stub_->FitOutfit(Call(TestKeys::kCustomer).get(), outfit_request, &outfit).ok());
+  ASSERT_EQ(outfit.garments_size(), 1);
+  EXPECT_THAT(outfit.garments(0).positions().raw().xyz(),
+              ::testing::ElementsAreArray(on_own.positions().raw().xyz()));
+}
+
+TEST_F(FitServiceTest, AnOwnMeshThatIsNotTheWeightsBodyIsRefused) {
+  const v1::AvatarProjection projection = Project(3);
+  v1::FitGarmentRequest request = FitRequest(projection.weights());
+  // Another person's mesh: centimetres from the body of these weights.
+  *request.mutable_body() = AvatarRequest(5, /*draco=*/true).avatar();
+  v1::FittedGarment fitted;
+  grpc::Status status = stub_->FitGarment(Call(TestKeys::kCustomer).get(), request, &fitted);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("from the body of the weights"));
+  v1::Avatar broken = AvatarRequest(3, /*draco=*/false).avatar();
+  broken.mutable_positions()->mutable_raw()->set_xyz(7, std::numeric_limits<float>::infinity());
+  *request.mutable_body() = broken;
+  status = stub_->FitGarment(Call(TestKeys::kCustomer).get(), request, &fitted);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_THAT(status.error_message(), HasSubstr("non-finite"));
+  broken.mutable_positions()->mutable_raw()->mutable_xyz()->RemoveLast();
+  *request.mutable_body() = broken;
+  EXPECT_EQ(FitCode(request), grpc::StatusCode::INVALID_ARGUMENT);
+  v1::FitOutfitRequest outfit_request;
+  *outfit_request.mutable_weights() = projection.weights();
+  *outfit_request.mutable_body() = AvatarRequest(5, /*draco=*/true).avatar();
+  outfit_request.add_items()->set_garment_id(garment_.id());
+  v1::FitOutfitResponse outfit;
+  EXPECT_EQ(stub_->FitOutfit(Call(TestKeys::kCustomer).get(), outfit_request, &outfit)
+                .error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+}
+
 TEST_F(FitServiceTest, AnOutfitFitsEverySizeWithAClothingBasis) {
   const v1::AvatarProjection projection = Project(2);
   v1::FitOutfitRequest request;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <span>
 #include <thread>
 
@@ -71,11 +72,14 @@ struct SizeFitted {
   absl::Duration compute;
 };
 
+// own_body: the customer's own mesh (3B floats, m, checked by OwnBody), or empty for the body
+// of the weights.
 absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view tenant,
                                         const v1::AvatarWeights& weights,
                                         const ServedGarment& garment,
                                         absl::string_view garment_id, absl::string_view size,
                                         absl::string_view method_name, bool cleanup,
+                                        std::span<const float> own_body,
                                         Eigen::VectorXf& positions) {
   SizeFitted out;
   if (!method_name.empty()) RETURN_IF_ERROR(clothing::ParseClothingMethod(method_name).status());
@@ -108,7 +112,10 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
   const Eigen::VectorXf w = checked.cast<float>();
   thread_local clothing::FitScratch scratch;
   const absl::Time start = absl::Now();
-  ASSIGN_OR_RETURN(out.pushed, out.clothing->fitter.Fit(w, cleanup, scratch, positions));
+  const clothing::ClothingFitter& fitter = out.clothing->fitter;
+  ASSIGN_OR_RETURN(out.pushed, own_body.empty()
+                                   ? fitter.Fit(w, cleanup, scratch, positions)
+                                   : fitter.FitToBody(w, own_body, cleanup, scratch, positions));
   out.compute = absl::Now() - start;
   return out;
 }
@@ -120,10 +127,11 @@ absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view 
                                          absl::string_view garment_id, absl::string_view size,
                                          absl::string_view method_name,
                                          v1::PositionsEncoding encoding, bool with_metrics,
-                                         bool cleanup) {
+                                         bool cleanup, std::span<const float> own_body) {
   thread_local Eigen::VectorXf positions;
   ASSIGN_OR_RETURN(SizeFitted one, FitPositions(catalog, tenant, weights, garment, garment_id,
-                                                size, method_name, cleanup, positions));
+                                                size, method_name, cleanup, own_body,
+                                                positions));
   const std::shared_ptr<const ServedClothing>& clothing = one.clothing;
   const std::string& method = one.method;
   const int64_t pushed = one.pushed;
@@ -185,6 +193,41 @@ absl::StatusOr<v1::Avatar> BodyOfWeights(const pipeline::LoadedAvatarBasis& basi
                                          const v1::AvatarWeights& weights, bool draco) {
   ASSIGN_OR_RETURN(core::Positions positions, BodyPositions(basis, weights));
   return proto::AvatarFromPositions(positions, draco);
+}
+
+// A customer's own mesh further than this (m, mean over vertices) from the body of the
+// weights is not the mesh they were projected from: the projection leaves 1 to 2 mm on
+// held-out bodies and about 8 mm at worst.
+constexpr double kMaxOwnBodyOffset = 0.010;
+
+// The customer's own mesh of a fit request, as 3B floats (m), checked: a valid avatar, and
+// within kMaxOwnBodyOffset of the body of `weights` on the garment's avatar basis. Empty
+// without one.
+absl::StatusOr<std::vector<float>> OwnBody(FitCatalog& catalog, const ServedGarment& garment,
+                                           const v1::AvatarWeights& weights, bool has_body,
+                                           const v1::Avatar& body) {
+  if (!has_body) return std::vector<float>();
+  ASSIGN_OR_RETURN(const core::Positions own, proto::AvatarPositions(body));
+  ASSIGN_OR_RETURN(std::shared_ptr<const pipeline::LoadedAvatarBasis> basis,
+                   catalog.AvatarBasis(garment.avatar_basis_id));
+  ASSIGN_OR_RETURN(const core::Positions of_weights, BodyPositions(*basis, weights));
+  if (of_weights.rows() != own.rows()) {
+    return absl::InvalidArgumentError(absl::StrCat("the body has ", own.rows(),
+                                                   " vertices; avatar basis ",
+                                                   garment.avatar_basis_id, " has ",
+                                                   of_weights.rows()));
+  }
+  const double offset = (own - of_weights).rowwise().norm().mean();
+  if (offset > kMaxOwnBodyOffset) {
+    return absl::InvalidArgumentError(absl::StrFormat(
+        "the body lies %.1f mm (mean) from the body of the weights, more than the %.0f mm a "
+        "projection leaves: it is not the avatar the weights were projected from "
+        "(ProjectAvatar)",
+        1000 * offset, 1000 * kMaxOwnBodyOffset));
+  }
+  const Eigen::VectorXf xyz =
+      Eigen::Map<const Eigen::VectorXd>(own.data(), own.size()).cast<float>();
+  return std::vector<float>(xyz.data(), xyz.data() + xyz.size());
 }
 
 // How far beyond its example drapes a clothing basis is still trusted, as a multiple of their
@@ -292,12 +335,15 @@ grpc::ServerUnaryReactor* FitService::FitGarment(grpc::CallbackServerContext* co
     ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
                      GarmentForWeights(*catalog_, principal.tenant, request->garment_id(),
                                        request->weights()));
+    ASSIGN_OR_RETURN(const std::vector<float> own_body,
+                     OwnBody(*catalog_, *garment, request->weights(), request->has_body(),
+                             request->body()));
     RETURN_IF_ERROR(CheckAlive(*context));
     ASSIGN_OR_RETURN(*response,
                      FitOne(*catalog_, principal.tenant, request->weights(), *garment,
                             request->garment_id(), request->size(), request->method(),
                             request->encoding(), request->with_metrics(),
-                            !request->skip_cleanup()));
+                            !request->skip_cleanup(), own_body));
     return absl::OkStatus();
   });
 }
@@ -313,10 +359,16 @@ grpc::ServerUnaryReactor* FitService::FitOutfit(grpc::CallbackServerContext* con
           "the outfit has ", request->items_size(), " items; at most ",
           options_.max_outfit_items));
     }
+    // Decoded and checked once for the outfit: every item's garment is on the weights' basis.
+    std::optional<std::vector<float>> own_body;
     for (const v1::OutfitItem& item : request->items()) {
       ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
                        GarmentForWeights(*catalog_, principal.tenant, item.garment_id(),
                                          request->weights()));
+      if (!own_body) {
+        ASSIGN_OR_RETURN(own_body, OwnBody(*catalog_, *garment, request->weights(),
+                                           request->has_body(), request->body()));
+      }
       std::vector<std::string> sizes;
       if (item.size().empty()) {
         sizes.assign(garment->topology.sizes().begin(), garment->topology.sizes().end());
@@ -329,7 +381,7 @@ grpc::ServerUnaryReactor* FitService::FitOutfit(grpc::CallbackServerContext* con
         absl::StatusOr<v1::FittedGarment> one =
             FitOne(*catalog_, principal.tenant, request->weights(), *garment, item.garment_id(),
                    size, item.method(), request->encoding(), request->with_metrics(),
-                   /*cleanup=*/true);
+                   /*cleanup=*/true, *own_body);
         // Every size: only those with a published clothing basis.
         if (item.size().empty() && absl::IsNotFound(one.status())) continue;
         if (!one.ok()) return one.status();
@@ -452,7 +504,7 @@ grpc::ServerUnaryReactor* FitService::AdviseSize(grpc::CallbackServerContext* co
       absl::StatusOr<SizeFitted> fitted =
           FitPositions(*catalog_, principal.tenant, request->weights(), *garment,
                        request->garment_id(), advice.size_names[size], request->method(),
-                       /*cleanup=*/true, flat);
+                       /*cleanup=*/true, /*own_body=*/{}, flat);
       // Every size: only those with a published clothing basis.
       if (request->sizes().empty() && absl::IsNotFound(fitted.status())) continue;
       if (!fitted.ok()) return fitted.status();

@@ -182,6 +182,7 @@ void AddRoutes(httplib::Server& server, const HttpServerOptions& options) {
     v1::TryOnResponse answer;
     v1::FitOutfitRequest outfit;
     *outfit.mutable_weights() = request.weights();
+    if (request.has_body()) *outfit.mutable_body() = request.body();
     v1::OutfitItem* item = outfit.add_items();
     item->set_garment_id(request.garment_id());
     item->set_method(request.method());
