@@ -35,9 +35,11 @@ CustomerClient::CustomerClient(const RemoteFlags& remote)
 absl::StatusOr<v1::FittedGarment> CustomerClient::Fit(const v1::AvatarWeights& weights,
                                                       const std::string& garment_id,
                                                       const std::string& size,
-                                                      const std::string& method, bool raw) {
+                                                      const std::string& method, bool raw,
+                                                      const v1::Avatar* body) {
   v1::FitGarmentRequest request;
   *request.mutable_weights() = weights;
+  if (body != nullptr) *request.mutable_body() = *body;
   request.set_garment_id(garment_id);
   request.set_size(size);
   request.set_method(method);

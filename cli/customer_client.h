@@ -26,9 +26,12 @@ class CustomerClient {
  public:
   explicit CustomerClient(const RemoteFlags& remote);
 
+  // body: the customer's own mesh to fit to (FitGarmentRequest.body), or null for the body of
+  // the weights.
   absl::StatusOr<v1::FittedGarment> Fit(const v1::AvatarWeights& weights,
                                         const std::string& garment_id, const std::string& size,
-                                        const std::string& method, bool raw);
+                                        const std::string& method, bool raw,
+                                        const v1::Avatar* body);
   absl::StatusOr<v1::FitOutfitResponse> Outfit(const v1::FitOutfitRequest& request);
   absl::StatusOr<v1::GarmentTopology> Topology(const std::string& garment_id);
   // The fitted positions (3V float32, m), decoded and checked against the topology.

@@ -2,6 +2,7 @@
 // shop makes them.
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -117,9 +118,15 @@ absl::StatusOr<v1::AvatarWeights> ReadWeights(const std::string& path) {
 
 absl::Status RunFit(const CustomerFlags& flags) {
   ASSIGN_OR_RETURN(v1::AvatarWeights weights, ReadWeights(flags.weights));
+  std::optional<v1::Avatar> body;
+  if (!flags.avatar.empty()) {
+    ASSIGN_OR_RETURN(const core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
+    ASSIGN_OR_RETURN(body, proto::AvatarFromPositions(avatar.positions, flags.draco));
+  }
   CustomerClient client(flags.remote);
   ASSIGN_OR_RETURN(v1::FittedGarment fitted,
-                   client.Fit(weights, flags.garment, flags.size, flags.method, flags.raw));
+                   client.Fit(weights, flags.garment, flags.size, flags.method, flags.raw,
+                              body ? &*body : nullptr));
   RETURN_IF_ERROR(client.WriteObj(fitted, flags.out));
   std::cout << absl::StrFormat(
       "%s size %s (%s, clothing basis %.12s v%d): %d bytes of positions, %d vertices pushed "
@@ -237,6 +244,10 @@ void AddCustomerCommands(CLI::App& app, CliContext& context) {
   fit->add_option("--size", flags->size, "Size (default M)");
   fit->add_option("--method", flags->method, "kernel, linear, quadratic or paper (default: kernel where built, else linear)");
   fit->add_flag("--raw", flags->raw, "Ask for raw float32 positions instead of Draco");
+  fit->add_option("--avatar", flags->avatar,
+                  "Fit to this avatar OBJ, the mesh the weights were projected from, instead of "
+                  "the body of the weights");
+  fit->add_flag("--draco", flags->draco, "Send --avatar Draco-encoded instead of raw");
   fit->add_option("--out", flags->out, "Fitted garment OBJ")->required();
   fit->callback([&context, flags] { context.action = [flags] { return RunFit(*flags); }; });
 

@@ -234,6 +234,20 @@ TEST_F(FitServiceTest, AFitToTheOwnMeshFollowsItAndMatchesTheLocalFit) {
   }
   EXPECT_LT(worst, 1e-5);
 
+  // The customer command sends the mesh with the weights.
+  const std::filesystem::path key = dir_ / "customer.key";
+  ASSERT_TRUE(core::WriteFileAtomically(key, absl::StrCat(TestKeys::kCustomer, "\n")).ok());
+  ASSERT_TRUE(core::WriteFileAtomically(dir_ / "w.json", proto::ToJson(projection.weights())).ok());
+  const Result remote = RunFitbase(
+      {"customer", "fit", "--server", absl::StrCat("127.0.0.1:", fit_->port()), "--api-key-file",
+       key.string(), "--weights", (dir_ / "w.json").string(), "--garment", garment_.id(),
+       "--avatar", (SmallCatalogue() / "pop" / "avatar-00003.obj").string(), "--raw", "--out",
+       (dir_ / "remote.obj").string()});
+  ASSERT_EQ(remote.exit_code, 0) << remote.err;
+  auto from_remote = core::ReadGarmentObj(dir_ / "remote.obj");
+  ASSERT_TRUE(from_remote.ok());
+  EXPECT_LT((from_remote->mesh.positions - expected->mesh.positions).cwiseAbs().maxCoeff(), 1e-5);
+
   // An outfit carries the mesh to every item.
   v1::FitOutfitRequest outfit_request;
   *outfit_request.mutable_weights() = projection.weights();
