@@ -463,13 +463,16 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
                 const Eigen::VectorXf& body, CleanupScratch& scratch, float* positions) {
   Eigen::VectorXf& from4 = scratch.body4;
   PadBodyPoints(fitted_for, from4);
+  const Eigen::Index vertex_count = correspondence.vertex_count();
+  Eigen::VectorXf& field = scratch.follow;
+  field.setZero(3 * vertex_count);
   const int32_t* anchor_corners = correspondence.corners.data();
   const float* anchor_barycentric = correspondence.barycentric.data();
   const auto point4 = [&](int32_t i) {
     return LoadF4(from4.data() + 4 * static_cast<Eigen::Index>(i));
   };
-  for (Eigen::Index v = 0; v < correspondence.vertex_count(); ++v) {
-    float* gv = positions + 3 * v;
+  for (Eigen::Index v = 0; v < vertex_count; ++v) {
+    const float* gv = positions + 3 * v;
     const F4 g = {gv[0], gv[1], gv[2], 0};
     const Eigen::Index nearest = NearestAnchor(correspondence, from4.data(), g, v);
     const int32_t* c = anchor_corners + 3 * nearest;
@@ -484,9 +487,25 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
                        fitted_for.segment<3>(3 * static_cast<Eigen::Index>(c[i])));
     }
     const Eigen::Vector3f normal(cross[0], cross[1], cross[2]);
-    const Eigen::Vector3f along = (moved.dot(normal) / area2) * normal;
-    for (int i = 0; i < 3; ++i) gv[i] += along[i];
+    field.segment<3>(3 * v) = (moved.dot(normal) / area2) * normal;
   }
+  // Jacobi rounds of averaging over each vertex's garment neighbours: cloth bridges the
+  // body's fine detail, which the projection leaves out too.
+  const std::vector<int32_t>& offsets = correspondence.neighbor_offsets;
+  const std::vector<int32_t>& neighbors = correspondence.neighbors;
+  Eigen::VectorXf& next = scratch.follow_next;
+  for (int round = 0; round < kFollowSmoothingIterations && !offsets.empty(); ++round) {
+    next.resize(field.size());
+    for (Eigen::Index v = 0; v < vertex_count; ++v) {
+      Eigen::Vector3f sum = field.segment<3>(3 * v);
+      for (int32_t n = offsets[v]; n < offsets[v + 1]; ++n) {
+        sum += field.segment<3>(3 * static_cast<Eigen::Index>(neighbors[n]));
+      }
+      next.segment<3>(3 * v) = sum / static_cast<float>(1 + offsets[v + 1] - offsets[v]);
+    }
+    field.swap(next);
+  }
+  Eigen::Map<Eigen::VectorXf>(positions, 3 * vertex_count) += field;
 }
 
 int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& weights,

@@ -116,6 +116,8 @@ struct ClearanceRequest {
 struct CleanupScratch {
   Eigen::VectorXf body;          // 3U, m: the body of the weights.
   Eigen::VectorXf own_body;      // 3U, m: a body given as a mesh (ClothingFitter::FitToBody).
+  Eigen::VectorXf follow;        // 3V, m: FollowBody's field.
+  Eigen::VectorXf follow_next;   // 3V, m: its next round.
   Eigen::VectorXf body4;         // 4U, m.
   Eigen::VectorXf garment4;      // 4V, m: the fit before the clean-up.
   Eigen::VectorXf displacement;  // 4V, m; zero between fits.
@@ -139,14 +141,21 @@ void BodyPointsOfWeights(const BodyCorrespondence& correspondence,
 absl::Status GatherBodyPoints(const BodyCorrespondence& correspondence,
                               std::span<const float> avatar, Eigen::VectorXf& points);
 
+// Rounds of smoothing of FollowBody's field. On the women's four garments in M (400 sampled
+// drapes, 10 held-out women), the fit to the own mesh missed its drape by 3.22 mm without,
+// 3.18 with 2 rounds, 3.17 with 4, and 3.16 with 8 or 16.
+inline constexpr int kFollowSmoothingIterations = 4;
+
 // Carries a garment fitted for one body (fitted_for, 3U floats, m) onto another body of the
 // same topology (body, 3U): each vertex moves by how far `body` lies out from `fitted_for`
 // (inwards: negative) at the vertex's nearest anchor, along that anchor's triangle normal on
-// `fitted_for`. Only the normal part is carried: tangentially, cloth does not follow the skin
-// millimetre by millimetre (on held-out women, the drape on the body of the weights carried
-// this way came 11% closer to the drape on the own mesh; carried with the tangential part
-// too, it came 3% further). positions: 3V floats (m), moved in place. Costs about one pass of
-// the clean-up's vertex loop.
+// `fitted_for`, then the field is averaged over the garment's neighbours
+// (kFollowSmoothingIterations Jacobi rounds; none without neighbour lists). Only the normal
+// part is carried: tangentially, cloth does not follow the skin millimetre by millimetre (on
+// held-out women, the drape on the body of the weights carried this way came 11% closer to the
+// drape on the own mesh; carried with the tangential part too, it came 3% further). positions:
+// 3V floats (m), moved in place. Costs about one pass of the clean-up's vertex loop and the
+// rounds.
 void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& fitted_for,
                 const Eigen::VectorXf& body, CleanupScratch& scratch, float* positions);
 

@@ -329,5 +329,70 @@ TEST(BodyCorrespondenceTest, RejectsBadGuardsAndNeighbours) {
               StatusIs(absl::StatusCode::kInvalidArgument, "garment triangle 0"));
 }
 
+// Two body triangles side by side in the plane y = 0 (normal +y), and a garment triangle 1 cm
+// above them whose vertex 0 is anchored on the first and vertices 1 and 2 on the second.
+BodyCorrespondence TwoTriangles() {
+  BodyCorrespondence c;
+  c.offset = 0.0025;
+  c.body_vertices = {0, 1, 2, 3, 4, 5};
+  c.body_mean.resize(18);
+  c.body_mean << 0, 0, 0, 0, 0, 1, 1, 0, 0,  // First triangle.
+      2, 0, 0, 2, 0, 1, 3, 0, 0;             // Second.
+  c.body_components = Eigen::MatrixXf::Zero(18, 1);
+  c.corners.resize(3, 3);
+  c.corners << 0, 1, 2, 3, 4, 5, 3, 4, 5;
+  c.barycentric.resize(3, 3);
+  c.barycentric << 0.4f, 0.3f, 0.3f, 0.4f, 0.3f, 0.3f, 0.2f, 0.2f, 0.6f;
+  return c;
+}
+
+TEST(BodyCorrespondenceTest, FollowBodyCarriesTheNormalOffsetAndSmoothsItOverTheGarment) {
+  BodyCorrespondence c = TwoTriangles();
+  Eigen::VectorXf of_weights;
+  BodyPointsOfWeights(c, Eigen::VectorXf::Zero(1), of_weights);
+  // The first triangle 6 mm higher and 5 cm along x; the second where it was.
+  Eigen::VectorXf mesh = of_weights;
+  for (int i = 0; i < 3; ++i) {
+    mesh(3 * i) += 0.05f;
+    mesh(3 * i + 1) += 0.006f;
+  }
+  const Eigen::VectorXf garment =
+      (Eigen::VectorXf(9) << 0.3f, 0.01f, 0.3f, 2.3f, 0.01f, 0.3f, 2.5f, 0.01f, 0.5f).finished();
+  CleanupScratch scratch;
+  // Without neighbour lists: vertex 0 rises with its triangle, only along the normal.
+  Eigen::VectorXf moved = garment;
+  FollowBody(c, of_weights, mesh, scratch, moved.data());
+  EXPECT_NEAR(moved(0), 0.3f, 1e-6);
+  EXPECT_NEAR(moved(1), 0.016f, 1e-6);
+  EXPECT_NEAR(moved(4), 0.01f, 1e-6);
+  EXPECT_NEAR(moved(7), 0.01f, 1e-6);
+  // With them: the 6 mm are shared over the triangle (each vertex averages itself and its two
+  // neighbours), 2 mm each after the first round and after every later one.
+  core::Triangles garment_triangles(1, 3);
+  garment_triangles << 0, 1, 2;
+  ASSERT_TRUE(SetGarmentNeighbors(garment_triangles, c).ok());
+  moved = garment;
+  FollowBody(c, of_weights, mesh, scratch, moved.data());
+  for (int v = 0; v < 3; ++v) {
+    EXPECT_NEAR(moved(3 * v + 1), 0.012f, 1e-6) << v;
+    EXPECT_NEAR(moved(3 * v), garment(3 * v), 1e-6) << v;
+  }
+}
+
+TEST(BodyCorrespondenceTest, GatherBodyPointsTakesTheUsedVerticesOfAMesh) {
+  BodyCorrespondence c = TwoTriangles();
+  c.body_vertices = {1, 3, 4, 6, 7, 9};
+  std::vector<float> mesh(30);
+  for (int i = 0; i < 30; ++i) mesh[i] = static_cast<float>(i);
+  Eigen::VectorXf points;
+  ASSERT_TRUE(GatherBodyPoints(c, mesh, points).ok());
+  ASSERT_EQ(points.size(), 18);
+  EXPECT_EQ(points(0), 3.0f);
+  EXPECT_EQ(points(17), 29.0f);
+  mesh.resize(27);
+  EXPECT_THAT(GatherBodyPoints(c, mesh, points),
+              StatusIs(absl::StatusCode::kInvalidArgument, "uses vertex 9"));
+}
+
 }  // namespace
 }  // namespace fitbase::clothing
