@@ -159,9 +159,6 @@ absl::Status RunFit(const FitFlags& flags) {
   const Eigen::VectorXf w =
       Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
           .cast<float>();
-  clothing::FitScratch scratch;
-  Eigen::VectorXf positions;
-  const auto start = std::chrono::steady_clock::now();
   std::vector<float> own_body;
   if (flags.fit_body == "own") {
     ASSIGN_OR_RETURN(const core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
@@ -170,6 +167,9 @@ absl::Status RunFit(const FitFlags& flags) {
                                     .cast<float>();
     own_body.assign(xyz.data(), xyz.data() + xyz.size());
   }
+  clothing::FitScratch scratch;
+  Eigen::VectorXf positions;
+  const auto start = std::chrono::steady_clock::now();
   ASSIGN_OR_RETURN(int64_t moved,
                    own_body.empty()
                        ? fitter.Fit(w, !flags.no_cleanup, scratch, positions)
