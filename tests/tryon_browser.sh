@@ -36,6 +36,6 @@ garment=$("$fitbase" --data "$data" garment upload --coordinator "$coordinator" 
 build=$("$fitbase" build submit --coordinator "$coordinator" --garment "$garment" --sizes M,XL \
   --methods linear --homotopy-steps 2 --relax-steps 2 | awk '{print $1; exit}')
 "$fitbase" build watch --coordinator "$coordinator" "$build" > /dev/null
-args=(--server "http://$http" --key "$customer")
+args=(--server "http://$http" --key "$customer" --scan "$small/pop/avatar-00003.obj")
 [ -n "$screenshot" ] && args+=(--screenshot "$screenshot")
 node "$web/tests/tryon.test.mjs" "${args[@]}"

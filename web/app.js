@@ -43,7 +43,7 @@ const state = {
   garments: [], // GarmentSummary[] of the tenant
   garment: null, // the GarmentSummary shown
   topology: null, // { triangles, wireOrder } of that garment
-  body: null, // { population, weights, label, warnings }
+  body: null, // { population, weights, own: the scan as an Avatar or null, label, warnings }
   fit: null, // { advice, sizes: [{ size, geometry, sizeFit, values: { ease, stretch } }] }
   size: null,
   mode: $('map-mode').value,
@@ -176,13 +176,15 @@ function fromMeasurements(label, measurements, stale) {
   );
 }
 
+// A scan is shown as it is, and every garment is fitted to it (not to the body of its weights).
 function uploadBody(file, stale) {
   const isFba = /\.fba$/i.test(file.name);
-  return loadBody(`Your scan: ${file.name}`, (population) => api.projectBody(population, file, isFba), stale);
+  return loadBody(`Your scan: ${file.name}`, (population) => api.projectBody(population, file, isFba), stale, true);
 }
 
-// request(population) answers { weights, body: Avatar, out_of_distribution, reasons }.
-async function loadBody(label, request, stale) {
+// request(population) answers { weights, body: Avatar, out_of_distribution, reasons }. own: the
+// body is the shopper's own mesh, sent with every fit.
+async function loadBody(label, request, stale, own = false) {
   if (!state.garment) throw new Error('Choose a garment first.');
   const population = state.garment.population;
   const [answer, triangles] = await Promise.all([request(population), bodyTriangles(population)]);
@@ -193,6 +195,7 @@ async function loadBody(label, request, stale) {
   state.body = {
     population,
     weights: answer.weights,
+    own: own ? answer.body : null,
     label,
     warnings: answer.out_of_distribution ? (answer.reasons ?? []) : [],
   };
@@ -213,7 +216,7 @@ function dropBody() {
 
 async function fitBody(stale) {
   const { garment, topology, body } = state;
-  const answer = await api.fit(body.weights, garment.garment_id);
+  const answer = await api.fit(body.weights, garment.garment_id, body.own);
   const advice = answer.advice ?? {};
   const sizeFits = advice.sizes ?? [];
   const sizes = await Promise.all(

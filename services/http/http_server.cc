@@ -7,7 +7,9 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "fitbase/v1/fit_service.grpc.pb.h"
+#include "core/status_macros.h"
 #include "google/protobuf/util/json_util.h"
+#include "proto/avatar_codec.h"
 #include "services/http/http_body.h"
 #include "services/rpc/call_auth.h"
 // Last: it includes <resolv.h>, whose `_res` macro breaks Eigen's headers included after it.
@@ -115,6 +117,13 @@ bool ParseBody(const httplib::Request& req, httplib::Response& res,
   return status.ok();
 }
 
+// The avatar Draco-encoded, as the body of the weights is sent: a page shows and sends back
+// the same quantized mesh, so the garment is fitted to what the shopper sees.
+absl::StatusOr<v1::Avatar> DracoAvatar(const v1::Avatar& avatar) {
+  ASSIGN_OR_RETURN(const core::Positions positions, proto::AvatarPositions(avatar));
+  return proto::AvatarFromPositions(positions, /*draco=*/true);
+}
+
 std::unique_ptr<grpc::ClientContext> CallFor(const httplib::Request& req) {
   auto context = std::make_unique<grpc::ClientContext>();
   context->set_deadline(std::chrono::system_clock::now() + kCallDeadline);
@@ -155,7 +164,15 @@ void AddRoutes(httplib::Server& server, const HttpServerOptions& options) {
                                                httplib::Response& res) {
     v1::ProjectAvatarRequest request;
     request.set_population(req.get_param_value("population"));
-    request.set_with_body(true);
+    // body=own answers the upload itself as the body, to be shown and sent back with the fit
+    // (POST /api/v1/fit's body); weights, the default, the body of the weights.
+    const std::string body = req.has_param("body") ? req.get_param_value("body") : "weights";
+    if (body != "own" && body != "weights") {
+      SendError(res, 400, "INVALID_ARGUMENT",
+                absl::StrCat("body is '", body, "'; it is own or weights"));
+      return;
+    }
+    request.set_with_body(body == "weights");
     absl::StatusOr<v1::Avatar> avatar =
         ParseUploadedAvatar(req.body, req.get_header_value("Content-Type"));
     if (!avatar.ok()) {
@@ -165,7 +182,16 @@ void AddRoutes(httplib::Server& server, const HttpServerOptions& options) {
     *request.mutable_avatar() = *std::move(avatar);
     v1::AvatarProjection answer;
     const grpc::Status status = stub->ProjectAvatar(CallFor(req).get(), request, &answer);
-    status.ok() ? SendMessage(res, answer) : SendGrpcError(res, status);
+    if (!status.ok()) return SendGrpcError(res, status);
+    if (body == "own") {
+      absl::StatusOr<v1::Avatar> own = DracoAvatar(request.avatar());
+      if (!own.ok()) {
+        SendError(res, 400, "INVALID_ARGUMENT", std::string(own.status().message()));
+        return;
+      }
+      *answer.mutable_body() = *std::move(own);
+    }
+    SendMessage(res, answer);
   });
   server.Post("/api/v1/bodies/from-measurements", [stub](const httplib::Request& req,
                                                          httplib::Response& res) {

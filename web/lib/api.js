@@ -56,15 +56,18 @@ export function createApi(getKey) {
     listGarments: () => call('GET', '/api/v1/garments'),
     garmentTopology: (id) => call('GET', `/api/v1/garments/${encodeURIComponent(id)}/topology`),
     bodyTopology: (p) => call('GET', `/api/v1/bodies/topology?${population(p)}`),
-    // file: a File or Blob. An OBJ is text, a .fba (fitbase avatar) binary.
+    // file: a File or Blob. An OBJ is text, a .fba (fitbase avatar) binary. The answer's body
+    // is the upload itself (Draco), which fit() sends back so the garment is fitted to it.
     projectBody: (p, file, isFba) =>
-      call('POST', `/api/v1/bodies/project?${population(p)}`, {
+      call('POST', `/api/v1/bodies/project?${population(p)}&body=own`, {
         body: file,
         contentType: isFba ? 'application/octet-stream' : 'text/plain',
       }),
     bodyFromMeasurements: (p, measurements) =>
       call('POST', '/api/v1/bodies/from-measurements', { json: { population: p, measurements } }),
     // weights exactly as the body endpoint answered them: the basis id travels with them.
-    fit: (weights, garmentId) => call('POST', '/api/v1/fit', { json: { weights, garment_id: garmentId } }),
+    // body: the shopper's own mesh (an Avatar) to fit to, or null for the body of the weights.
+    fit: (weights, garmentId, body) =>
+      call('POST', '/api/v1/fit', { json: { weights, garment_id: garmentId, ...(body ? { body } : {}) } }),
   };
 }

@@ -1,6 +1,9 @@
 // Tests of the try-on page and of the HTTP API's errors, against a running server:
 //
-//   node web/tests/tryon.test.mjs --server http://127.0.0.1:PORT --key KEY [--screenshot out.png]
+//   node web/tests/tryon.test.mjs --server http://127.0.0.1:PORT --key KEY [--scan avatar.obj]
+//     [--screenshot out.png]
+//
+// --scan: an avatar OBJ of the garments' population, uploaded as a shopper's scan.
 //
 // The browser is Debian's Chromium (/usr/bin/chromium) driven by playwright-core, rendering
 // WebGL in software (SwiftShader), so the tests need no GPU and download no browser.
@@ -17,11 +20,12 @@ const { values: args } = parseArgs({
     server: { type: 'string' },
     key: { type: 'string' },
     screenshot: { type: 'string' },
+    scan: { type: 'string' },
     chromium: { type: 'string', default: '/usr/bin/chromium' },
   },
 });
 if (!args.server || !args.key) {
-  console.error('usage: node web/tests/tryon.test.mjs --server http://127.0.0.1:PORT --key KEY [--screenshot out.png]');
+  console.error('usage: node web/tests/tryon.test.mjs --server http://127.0.0.1:PORT --key KEY [--scan avatar.obj] [--screenshot out.png]');
   process.exit(2);
 }
 const SERVER = args.server.replace(/\/$/, '');
@@ -111,6 +115,48 @@ describe('HTTP API errors', { concurrency: 1 }, () => {
     });
     assertError(answer, 404, 'NOT_FOUND');
     assertError(await call('GET', '/api/v1/garments/no-such-garment/topology'), 404, 'NOT_FOUND');
+  });
+
+  test('a scan comes back as itself with body=own, and the garment is fitted to it', async (t) => {
+    if (!args.scan) return t.skip('no --scan');
+    const { population, garment_id } = await garment();
+    const scan = fs.readFileSync(args.scan);
+    const project = (body) =>
+      call('POST', `/api/v1/bodies/project?population=${encodeURIComponent(population)}${body}`, {
+        body: scan,
+        contentType: 'text/plain',
+      });
+    const own = await project('&body=own');
+    const ofWeights = await project('');
+    assert.equal(own.status, 200, own.text.slice(0, 300));
+    assert.equal(ofWeights.status, 200, ofWeights.text.slice(0, 300));
+    assert.equal(own.json.body.positions.vertex_count, 13380);
+    assert.ok(own.json.body.positions.draco?.data, 'the scan is not Draco-encoded');
+    assert.notEqual(own.json.body.positions.draco.data, ofWeights.json.body.positions.draco.data);
+    assert.deepEqual(own.json.weights, ofWeights.json.weights);
+    const fit = (body) =>
+      call('POST', '/api/v1/fit', {
+        body: JSON.stringify({ weights: own.json.weights, garment_id, body }),
+        contentType: 'application/json',
+      });
+    const onScan = await fit(own.json.body);
+    assert.equal(onScan.status, 200, onScan.text.slice(0, 300));
+    const onWeights = await fit(undefined);
+    assert.equal(onWeights.status, 200, onWeights.text.slice(0, 300));
+    assert.notEqual(
+      onScan.json.outfit.garments[0].positions.draco.data,
+      onWeights.json.outfit.garments[0].positions.draco.data,
+    );
+    // Another person's body with these weights is refused.
+    const other = await call('POST', '/api/v1/bodies/from-measurements', {
+      body: JSON.stringify({ population, measurements: { stature_cm: 150, weight_kg: 95 } }),
+      contentType: 'application/json',
+    });
+    assert.equal(other.status, 200, other.text.slice(0, 300));
+    const refused = await fit(other.json.avatar);
+    assertError(refused, 400, 'INVALID_ARGUMENT');
+    assert.match(refused.json.error.message, /from the body of the weights/);
+    assertError(await project('&body=skin'), 400, 'INVALID_ARGUMENT');
   });
 
   test('a body over 8 MiB is 413', async () => {
@@ -364,6 +410,31 @@ describe('try-on page', { concurrency: 1 }, () => {
     await expectReady(page);
     assert.match(await page.textContent('#body-note'), /171\.5 cm, 68 kg/);
     assert.match(await page.textContent('#recommendation'), /We recommend \S+/);
+    assert.ok(await page.evaluate(() => window.fitbaseTest.torsoScreenPoint()), 'no garment on the body');
+  });
+
+  test('an uploaded scan is shown as it is and every size is fitted to it', async (t) => {
+    if (!swiftShader) return t.skip('no SwiftShader WebGL');
+    if (!args.scan) return t.skip('no --scan');
+    let fitRequest = null;
+    const onRequest = (r) => {
+      if (r.url().includes('/api/v1/fit')) fitRequest = r;
+    };
+    page.on('request', onRequest);
+    try {
+      await page.setInputFiles('#upload', {
+        name: path.basename(args.scan),
+        mimeType: 'text/plain',
+        buffer: fs.readFileSync(args.scan),
+      });
+      await expectReady(page);
+    } finally {
+      page.off('request', onRequest);
+    }
+    assert.ok(fitRequest, 'the page asked for no fit');
+    const sent = JSON.parse(fitRequest.postData());
+    assert.equal(sent.body?.positions?.vertex_count, 13380, 'the fit request did not carry the scan');
+    assert.match(await page.textContent('#body-note'), /Your scan/);
     assert.ok(await page.evaluate(() => window.fitbaseTest.torsoScreenPoint()), 'no garment on the body');
   });
 
