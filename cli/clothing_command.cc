@@ -162,10 +162,7 @@ absl::Status RunFit(const FitFlags& flags) {
   std::vector<float> own_body;
   if (flags.fit_body == "own") {
     ASSIGN_OR_RETURN(const core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
-    const Eigen::VectorXf xyz = Eigen::Map<const Eigen::VectorXd>(avatar.positions.data(),
-                                                                  avatar.positions.size())
-                                    .cast<float>();
-    own_body.assign(xyz.data(), xyz.data() + xyz.size());
+    own_body = core::InterleavedFloats(avatar.positions);
   }
   clothing::FitScratch scratch;
   Eigen::VectorXf positions;

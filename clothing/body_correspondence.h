@@ -153,7 +153,7 @@ inline constexpr int kFollowSmoothingIterations = 4;
 // (kFollowSmoothingIterations Jacobi rounds; none without neighbour lists). Only the normal
 // part is carried: tangentially, cloth does not follow the skin millimetre by millimetre (on
 // held-out women, the drape on the body of the weights carried this way came 11% closer to the
-// drape on the own mesh; carried with the tangential part too, it came 3% further). positions:
+// drape on the own mesh; carried with the tangential part too, it came 2% further). positions:
 // 3V floats (m), moved in place. Costs about one pass of the clean-up's vertex loop and the
 // rounds.
 void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& fitted_for,

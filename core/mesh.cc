@@ -2,6 +2,11 @@
 
 namespace fitbase::core {
 
+std::vector<float> InterleavedFloats(const Positions& positions) {
+  // Row-major: the rows' coordinates are already interleaved in memory.
+  return std::vector<float>(positions.data(), positions.data() + positions.size());
+}
+
 Triangles Triangulate(const PolygonFaces& faces) {
   Eigen::Index count = 0;
   for (int32_t size : faces.sizes) count += size - 2;

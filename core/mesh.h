@@ -28,6 +28,9 @@ struct PolygonFaces {
 // Splits every polygon into a fan from its first corner, keeping the corner orientation.
 Triangles Triangulate(const PolygonFaces& faces);
 
+// positions (V x 3) as 3V floats, xyz interleaved: the layout a body travels in to a fit.
+std::vector<float> InterleavedFloats(const Positions& positions);
+
 // A surface mesh whose vertex order is part of its identity: every linear model in fitbase
 // relates vertex i of one mesh to vertex i of another of the same topology.
 struct Mesh {

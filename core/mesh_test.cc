@@ -42,5 +42,11 @@ TEST(TriangulateTest, MixedFacesKeepTheirOrder) {
 
 TEST(TriangulateTest, NoFacesGiveNoTriangles) { EXPECT_EQ(Triangulate(PolygonFaces{}).rows(), 0); }
 
+TEST(MeshTest, InterleavedFloatsListsEachVertexsCoordinatesInTurn) {
+  Positions positions(2, 3);
+  positions << 0.25, 1.5, -2, 3, 4.5, 5;
+  EXPECT_EQ(InterleavedFloats(positions), (std::vector<float>{0.25f, 1.5f, -2, 3, 4.5f, 5}));
+}
+
 }  // namespace
 }  // namespace fitbase::core

@@ -41,7 +41,7 @@ struct Holdout {
   core::TriangleBvh surface;
   Eigen::VectorXf weights;
   core::Positions weights_body;
-  Eigen::VectorXf body_xyz;  // body as 3B floats, xyz interleaved, for FitToBody.
+  std::vector<float> body_xyz;  // body as 3B floats, xyz interleaved, for FitToBody.
 };
 
 // One row of the table, accumulated over avatars (and, for the overall table, garments).
@@ -197,10 +197,8 @@ absl::StatusOr<std::vector<Holdout>> MakeHoldouts(const body::BodyModel& body_mo
     if (spec.truth_on_weights_body) body.positions = weights_body;
     ASSIGN_OR_RETURN(core::TriangleBvh surface,
                      core::TriangleBvh::Build(body.positions, triangles));
-    const Eigen::VectorXf body_xyz =
-        Eigen::Map<const Eigen::VectorXd>(body.positions.data(), body.positions.size())
-            .cast<float>();
-    holdouts.push_back({body.positions, std::move(surface), w, weights_body, body_xyz});
+    holdouts.push_back({body.positions, std::move(surface), w, weights_body,
+                        core::InterleavedFloats(body.positions)});
   }
   *error_mean_mm = spec.holdout_count ? error_sum / spec.holdout_count : 0;
   return holdouts;
@@ -284,9 +282,9 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
     clothing::FitScratch scratch;
     Eigen::VectorXf fit;
     const auto fit_one = [&](const Holdout& h) {
-      return spec.fit_on_own_body ? fitter->FitToBody(h.weights, {h.body_xyz.data(), static_cast<size_t>(h.body_xyz.size())}, row.cleanup,
-                                                      scratch, fit)
-                                  : fitter->Fit(h.weights, row.cleanup, scratch, fit);
+      return spec.fit_on_own_body
+                 ? fitter->FitToBody(h.weights, h.body_xyz, row.cleanup, scratch, fit)
+                 : fitter->Fit(h.weights, row.cleanup, scratch, fit);
     };
     for (size_t h = 0; h < holdouts.size(); ++h) {
       RETURN_IF_ERROR(fit_one(holdouts[h]).status());

@@ -225,9 +225,7 @@ absl::StatusOr<std::vector<float>> OwnBody(FitCatalog& catalog, const ServedGarm
         "(ProjectAvatar)",
         1000 * offset, 1000 * kMaxOwnBodyOffset));
   }
-  const Eigen::VectorXf xyz =
-      Eigen::Map<const Eigen::VectorXd>(own.data(), own.size()).cast<float>();
-  return std::vector<float>(xyz.data(), xyz.data() + xyz.size());
+  return core::InterleavedFloats(own);
 }
 
 // How far beyond its example drapes a clothing basis is still trusted, as a multiple of their
