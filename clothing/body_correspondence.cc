@@ -195,6 +195,24 @@ Eigen::Index NearestAnchor(const BodyCorrespondence& correspondence, const float
   return nearest;
 }
 
+// Garment vertex v (at g) against its nearest anchor's triangle on the padded body points:
+// the anchor's row, a corner of the triangle and (b - a) x (c - a), unnormalized. Only the
+// nearest anchor's plane is needed, so its normal is computed once, not per anchor.
+struct AnchorPlane {
+  Eigen::Index row;
+  F4 corner;
+  F4 cross;
+};
+
+AnchorPlane NearestAnchorPlane(const BodyCorrespondence& correspondence, const float* body4,
+                               const F4& g, Eigen::Index v) {
+  const Eigen::Index row = NearestAnchor(correspondence, body4, g, v);
+  const int32_t* c = correspondence.corners.data() + 3 * row;
+  const auto point4 = [&](int32_t i) { return LoadF4(body4 + 4 * static_cast<Eigen::Index>(i)); };
+  const F4 a = point4(c[0]);
+  return {row, a, Cross(point4(c[1]) - a, point4(c[2]) - a)};
+}
+
 }  // namespace
 
 absl::Status SetGarmentNeighbors(const core::Triangles& garment_triangles,
@@ -466,21 +484,15 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
   const Eigen::Index vertex_count = correspondence.vertex_count();
   Eigen::VectorXf& field = scratch.follow;
   field.setZero(3 * vertex_count);
-  const int32_t* anchor_corners = correspondence.corners.data();
-  const float* anchor_barycentric = correspondence.barycentric.data();
-  const auto point4 = [&](int32_t i) {
-    return LoadF4(from4.data() + 4 * static_cast<Eigen::Index>(i));
-  };
   for (Eigen::Index v = 0; v < vertex_count; ++v) {
     const float* gv = positions + 3 * v;
-    const F4 g = {gv[0], gv[1], gv[2], 0};
-    const Eigen::Index nearest = NearestAnchor(correspondence, from4.data(), g, v);
-    const int32_t* c = anchor_corners + 3 * nearest;
-    const float* b = anchor_barycentric + 3 * nearest;
-    const F4 a = point4(c[0]);
-    const F4 cross = Cross(point4(c[1]) - a, point4(c[2]) - a);
+    const AnchorPlane plane =
+        NearestAnchorPlane(correspondence, from4.data(), F4{gv[0], gv[1], gv[2], 0}, v);
+    const F4 cross = plane.cross;
     const float area2 = Dot(cross, cross);
     if (!(area2 > 0)) continue;
+    const int32_t* c = correspondence.corners.data() + 3 * plane.row;
+    const float* b = correspondence.barycentric.data() + 3 * plane.row;
     Eigen::Vector3f moved = Eigen::Vector3f::Zero();
     for (int i = 0; i < 3; ++i) {
       moved += b[i] * (body.segment<3>(3 * static_cast<Eigen::Index>(c[i])) -
@@ -522,7 +534,6 @@ int64_t PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
   auto& requests = scratch.requests;
   requests.clear();
   requests.reserve(static_cast<size_t>(vertex_count + correspondence.guard_triangles.rows()));
-  const int32_t* anchor_corners = correspondence.corners.data();
   Eigen::VectorXf& body4 = scratch.body4;
   PadBodyPoints(body, body4);
   const auto point4 = [&](int32_t i) {
@@ -531,16 +542,13 @@ int64_t PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
   for (Eigen::Index v = 0; v < vertex_count; ++v) {
     const float* gv = positions + 3 * v;
     const F4 g = {gv[0], gv[1], gv[2], 0};
-    const Eigen::Index nearest = NearestAnchor(correspondence, body4.data(), g, v);
-    // Only the nearest anchor's plane is needed: its normal is computed once, not per anchor.
-    // The anchor lies in its triangle's plane, so the height is measured from a corner; times
-    // |cross|, so that a vertex clear of the plane is passed over without a root or a division.
-    const int32_t* c = anchor_corners + 3 * nearest;
-    const F4 a = point4(c[0]);
-    const F4 cross = Cross(point4(c[1]) - a, point4(c[2]) - a);
+    const AnchorPlane plane = NearestAnchorPlane(correspondence, body4.data(), g, v);
+    const F4 cross = plane.cross;
     const float area2 = Dot(cross, cross);
     if (!(area2 > 0)) continue;
-    const float scaled = Dot(g - a, cross);
+    // The anchor lies in its triangle's plane, so the height is measured from a corner; times
+    // |cross|, so that a vertex clear of the plane is passed over without a root or a division.
+    const float scaled = Dot(g - plane.corner, cross);
     if (scaled >= 0 && scaled * scaled >= offset * offset * area2) continue;
     const float length = std::sqrt(area2);
     const F4 normal = cross / length;
