@@ -11,14 +11,15 @@
 //     over the SGEMM rate;
 //   - BM_FitKernel/N/V/S: the kernel model (N terms, 2N + 1 + 400 training bodies, 32 outputs;
 //     S: the kernel's shape, 0 Gaussian, 1 Matern 3/2, which costs a square root per body more);
-//   - BM_FitCleanup/N/V/R: a fit plus the collision clean-up (ClothingFitter): vertex anchors
+//   - BM_FitCleanup/N/V/R/M: a fit plus the collision clean-up (ClothingFitter): vertex anchors
 //     only, as bases before guards had (R = 0), or with a guard per body vertex under the
 //     garment and R rounds of smoothing over a grid garment's edges (the default is
-//     clothing::kSmoothingIterations); counter `moved` is the share of vertices the clean-up moved
-//     (random geometry moves every vertex, the most work a fit can take);
+//     clothing::kSmoothingIterations); M = 1: fitted to a mesh given with the weights
+//     (FitToBody) instead of the body of the weights; counter `moved` is the share of vertices
+//     the clean-up moved (random geometry moves every vertex, the most work a fit can take);
 //   - BM_ProjectAvatar/N: a 13,380-vertex avatar projected onto N components;
-//   - BM_FitStoredBasis/0..3 (--clothing=PATH.fbc): a real garment size, the model alone, with
-//     the clean-up, the clean-up without guards, and without smoothing.
+//   - BM_FitStoredBasis/0..4 (--clothing=PATH.fbc): a real garment size, the model alone, with
+//     the clean-up, the clean-up without guards, without smoothing, and fitted to a mesh.
 // Usage: fitbase_fit_bench [--benchmark_filter=...] [--clothing=PATH.fbc]
 #include <random>
 
@@ -225,9 +226,26 @@ void BM_FitCleanup(benchmark::State& state) {
   clothing::FitScratch scratch;
   Eigen::VectorXf out;
   int64_t moved = 0;
-  for (auto _ : state) {
-    moved = *fitter.Fit(w, true, scratch, out);
-    benchmark::DoNotOptimize(out.data());
+  if (state.range(3) == 0) {
+    for (auto _ : state) {
+      moved = *fitter.Fit(w, true, scratch, out);
+      benchmark::DoNotOptimize(out.data());
+    }
+  } else {
+    // Fitted to a mesh given with the weights (FitToBody): the body of the weights 1 mm higher.
+    Eigen::VectorXf points;
+    clothing::BodyPointsOfWeights(c, w, points);
+    std::vector<float> mesh(3 * static_cast<size_t>(kBodyVertices), 0.0f);
+    for (int i = 0; i < u; ++i) {
+      for (int k = 0; k < 3; ++k) {
+        mesh[3 * static_cast<size_t>(c.body_vertices[i]) + k] =
+            points(3 * i + k) + (k == 1 ? 0.001f : 0.0f);
+      }
+    }
+    for (auto _ : state) {
+      moved = *fitter.FitToBody(w, mesh, true, scratch, out);
+      benchmark::DoNotOptimize(out.data());
+    }
   }
   state.counters["moved"] = static_cast<double>(moved) / v;
 }
@@ -338,10 +356,11 @@ BENCHMARK(BM_FitKernel)
     ->Args({30, 8000, 1})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitCleanup)
-    ->Args({30, 2000, 0})
-    ->Args({30, 2000, clothing::kSmoothingIterations})
-    ->Args({30, 8000, 0})
-    ->Args({30, 8000, clothing::kSmoothingIterations})
+    ->Args({30, 2000, 0, 0})
+    ->Args({30, 2000, clothing::kSmoothingIterations, 0})
+    ->Args({30, 8000, 0, 0})
+    ->Args({30, 8000, clothing::kSmoothingIterations, 0})
+    ->Args({30, 8000, clothing::kSmoothingIterations, 1})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ProjectAvatar)->Arg(10)->Arg(30)->Arg(60)->Unit(benchmark::kMicrosecond);
 
