@@ -1,8 +1,10 @@
 // A stored clothing basis (`.fbc`, the store's clothing basis versions): the v1::ClothingBasis
 // message parsed, then what `fitbase fit` and the fit service decode of it
 // (proto::ClothingFitterFromProto, proto::GarmentMeshFromClothingBasis) and one fit with its
-// clean-up, which trusts the validation.
+// clean-up, which trusts the validation; then the same fit to a mesh given with the weights
+// (FitToBody, whose gather checks the basis's body vertices against the mesh).
 #include <cstdint>
+#include <vector>
 
 #include "clothing/clothing_fitter.h"
 #include "fitbase/v1/clothing_basis.pb.h"
@@ -14,6 +16,8 @@ namespace {
 // limit keeps them far below this, and a weight vector of a forged count is the caller's
 // allocation, not the parser's.
 constexpr int kMaxFitComponents = 1 << 16;
+// The avatar topology's vertex count.
+constexpr size_t kMeshVertices = 13380;
 
 }  // namespace
 
@@ -27,5 +31,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   fitbase::clothing::FitScratch scratch;
   Eigen::VectorXf positions;
   (void)fitter->Fit(weights, /*cleanup=*/true, scratch, positions);
+  // An hm08-sized mesh 1 mm above the origin: any basis vertex past it must be refused.
+  std::vector<float> mesh(3 * kMeshVertices);
+  for (size_t i = 1; i < mesh.size(); i += 3) mesh[i] = 0.001f;
+  (void)fitter->FitToBody(weights, mesh, /*cleanup=*/true, scratch, positions);
   return 0;
 }
