@@ -24,6 +24,7 @@
 #include <random>
 
 #include "benchmark/benchmark.h"
+#include "body/body_model.h"
 #include "clothing/clothing_fitter.h"
 #include "clothing/clothing_model.h"
 #include "core/kernel_ridge.h"
@@ -36,7 +37,7 @@
 namespace fitbase {
 namespace {
 
-constexpr int kBodyVertices = 13380;
+constexpr int kBodyVertices = static_cast<int>(body::kBodyVertexCount);
 constexpr int kBatch = 64;
 constexpr int kSgemmSize = 1024;
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "body/body_model.h"
 #include "clothing/clothing_fitter.h"
 #include "fitbase/v1/clothing_basis.pb.h"
 #include "proto/clothing_basis_codec.h"
@@ -16,8 +17,6 @@ namespace {
 // limit keeps them far below this, and a weight vector of a forged count is the caller's
 // allocation, not the parser's.
 constexpr int kMaxFitComponents = 1 << 16;
-// The avatar topology's vertex count.
-constexpr size_t kMeshVertices = 13380;
 
 }  // namespace
 
@@ -32,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Eigen::VectorXf positions;
   (void)fitter->Fit(weights, /*cleanup=*/true, scratch, positions);
   // An hm08-sized mesh 1 mm above the origin: any basis vertex past it must be refused.
-  std::vector<float> mesh(3 * kMeshVertices);
+  std::vector<float> mesh(3 * static_cast<size_t>(fitbase::body::kBodyVertexCount));
   for (size_t i = 1; i < mesh.size(); i += 3) mesh[i] = 0.001f;
   (void)fitter->FitToBody(weights, mesh, /*cleanup=*/true, scratch, positions);
   return 0;
