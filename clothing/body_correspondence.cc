@@ -204,13 +204,17 @@ struct AnchorPlane {
   F4 cross;
 };
 
-AnchorPlane NearestAnchorPlane(const BodyCorrespondence& correspondence, const float* body4,
-                               const F4& g, Eigen::Index v) {
-  const Eigen::Index row = NearestAnchor(correspondence, body4, g, v);
+AnchorPlane PlaneOfAnchor(const BodyCorrespondence& correspondence, const float* body4,
+                          Eigen::Index row) {
   const int32_t* c = correspondence.corners.data() + 3 * row;
   const auto point4 = [&](int32_t i) { return LoadF4(body4 + 4 * static_cast<Eigen::Index>(i)); };
   const F4 a = point4(c[0]);
   return {row, a, Cross(point4(c[1]) - a, point4(c[2]) - a)};
+}
+
+AnchorPlane NearestAnchorPlane(const BodyCorrespondence& correspondence, const float* body4,
+                               const F4& g, Eigen::Index v) {
+  return PlaneOfAnchor(correspondence, body4, NearestAnchor(correspondence, body4, g, v));
 }
 
 }  // namespace
@@ -482,24 +486,29 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
   Eigen::VectorXf& from4 = scratch.body4;
   PadBodyPoints(fitted_for, from4);
   const Eigen::Index vertex_count = correspondence.vertex_count();
+  // Padded to 4 floats (w = 0), so that the rounds below add whole points in one vector
+  // operation each: they are most of the cost of a fit to a mesh.
   Eigen::VectorXf& field = scratch.follow;
-  field.setZero(3 * vertex_count);
+  field.setZero(4 * vertex_count);
+  scratch.anchor_rows.resize(static_cast<size_t>(vertex_count));
+  const auto body_moved = [&](int32_t i) {
+    const Eigen::Index at = 3 * static_cast<Eigen::Index>(i);
+    return F4{body[at] - fitted_for[at], body[at + 1] - fitted_for[at + 1],
+              body[at + 2] - fitted_for[at + 2], 0};
+  };
   for (Eigen::Index v = 0; v < vertex_count; ++v) {
     const float* gv = positions + 3 * v;
     const AnchorPlane plane =
         NearestAnchorPlane(correspondence, from4.data(), F4{gv[0], gv[1], gv[2], 0}, v);
+    scratch.anchor_rows[static_cast<size_t>(v)] = static_cast<int32_t>(plane.row);
     const F4 cross = plane.cross;
     const float area2 = Dot(cross, cross);
     if (!(area2 > 0)) continue;
     const int32_t* c = correspondence.corners.data() + 3 * plane.row;
     const float* b = correspondence.barycentric.data() + 3 * plane.row;
-    Eigen::Vector3f moved = Eigen::Vector3f::Zero();
-    for (int i = 0; i < 3; ++i) {
-      moved += b[i] * (body.segment<3>(3 * static_cast<Eigen::Index>(c[i])) -
-                       fitted_for.segment<3>(3 * static_cast<Eigen::Index>(c[i])));
-    }
-    const Eigen::Vector3f normal(cross[0], cross[1], cross[2]);
-    field.segment<3>(3 * v) = (moved.dot(normal) / area2) * normal;
+    const F4 moved = b[0] * body_moved(c[0]) + b[1] * body_moved(c[1]) + b[2] * body_moved(c[2]);
+    const F4 carried = (Dot(moved, cross) / area2) * cross;
+    std::memcpy(field.data() + 4 * v, &carried, sizeof(carried));
   }
   // Jacobi rounds of averaging over each vertex's garment neighbours: cloth bridges the
   // body's fine detail, which the projection leaves out too.
@@ -508,27 +517,31 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
   Eigen::VectorXf& next = scratch.follow_next;
   for (int round = 0; round < kFollowSmoothingIterations && !offsets.empty(); ++round) {
     next.resize(field.size());
+    const float* from = field.data();
     for (Eigen::Index v = 0; v < vertex_count; ++v) {
-      Eigen::Vector3f sum = field.segment<3>(3 * v);
+      F4 sum = LoadF4(from + 4 * v);
       for (int32_t n = offsets[v]; n < offsets[v + 1]; ++n) {
-        sum += field.segment<3>(3 * static_cast<Eigen::Index>(neighbors[n]));
+        sum += LoadF4(from + 4 * static_cast<Eigen::Index>(neighbors[n]));
       }
-      next.segment<3>(3 * v) = sum / static_cast<float>(1 + offsets[v + 1] - offsets[v]);
+      const F4 mean = sum / static_cast<float>(1 + offsets[v + 1] - offsets[v]);
+      std::memcpy(next.data() + 4 * v, &mean, sizeof(mean));
     }
     field.swap(next);
   }
-  Eigen::Map<Eigen::VectorXf>(positions, 3 * vertex_count) += field;
+  for (Eigen::Index v = 0; v < vertex_count; ++v) {
+    for (int c = 0; c < 3; ++c) positions[3 * v + c] += field[4 * v + c];
+  }
 }
 
 int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& weights,
                       CleanupScratch& scratch, float* positions) {
   BodyPointsOfWeights(correspondence, weights, scratch.body);
-  return PushOutOfBodyPoints(correspondence, scratch.body, scratch, positions);
+  return PushOutOfBodyPoints(correspondence, scratch.body, {}, scratch, positions);
 }
 
 int64_t PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
-                            const Eigen::VectorXf& body, CleanupScratch& scratch,
-                            float* positions) {
+                            const Eigen::VectorXf& body, std::span<const int32_t> anchor_rows,
+                            CleanupScratch& scratch, float* positions) {
   const float offset = static_cast<float>(correspondence.offset);
   const Eigen::Index vertex_count = correspondence.vertex_count();
   auto& requests = scratch.requests;
@@ -542,7 +555,10 @@ int64_t PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
   for (Eigen::Index v = 0; v < vertex_count; ++v) {
     const float* gv = positions + 3 * v;
     const F4 g = {gv[0], gv[1], gv[2], 0};
-    const AnchorPlane plane = NearestAnchorPlane(correspondence, body4.data(), g, v);
+    const AnchorPlane plane =
+        anchor_rows.empty()
+            ? NearestAnchorPlane(correspondence, body4.data(), g, v)
+            : PlaneOfAnchor(correspondence, body4.data(), anchor_rows[static_cast<size_t>(v)]);
     const F4 cross = plane.cross;
     const float area2 = Dot(cross, cross);
     if (!(area2 > 0)) continue;

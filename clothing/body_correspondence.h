@@ -116,8 +116,9 @@ struct ClearanceRequest {
 struct CleanupScratch {
   Eigen::VectorXf body;          // 3U, m: the body of the weights.
   Eigen::VectorXf own_body;      // 3U, m: a body given as a mesh (ClothingFitter::FitToBody).
-  Eigen::VectorXf follow;        // 3V, m: FollowBody's field.
-  Eigen::VectorXf follow_next;   // 3V, m: its next round.
+  Eigen::VectorXf follow;        // 4V, m: FollowBody's field.
+  Eigen::VectorXf follow_next;   // 4V, m: its next round.
+  std::vector<int32_t> anchor_rows;  // V: the anchor FollowBody carried each vertex along.
   Eigen::VectorXf body4;         // 4U, m.
   Eigen::VectorXf garment4;      // 4V, m: the fit before the clean-up.
   Eigen::VectorXf displacement;  // 4V, m; zero between fits.
@@ -154,8 +155,8 @@ inline constexpr int kFollowSmoothingIterations = 4;
 // part is carried: tangentially, cloth does not follow the skin millimetre by millimetre (on
 // held-out women, the drape on the body of the weights carried this way came 11% closer to the
 // drape on the own mesh; carried with the tangential part too, it came 2% further). positions:
-// 3V floats (m), moved in place. Costs about one pass of the clean-up's vertex loop and the
-// rounds.
+// 3V floats (m), moved in place. Leaves each vertex's anchor row in scratch.anchor_rows, for
+// the clean-up that follows. Costs about one pass of the clean-up's vertex loop and the rounds.
 void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& fitted_for,
                 const Eigen::VectorXf& body, CleanupScratch& scratch, float* positions);
 
@@ -168,10 +169,12 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
                       CleanupScratch& scratch, float* positions);
 
 // As PushOutOfBody, clearing the body given by its U points (3U floats, m: from
-// BodyPointsOfWeights or GatherBodyPoints).
+// BodyPointsOfWeights or GatherBodyPoints). anchor_rows: empty, or V rows of `corners`, the
+// anchor each vertex is cleared against instead of its nearest (FollowBody's: it moved the
+// vertex along that anchor's normal only, so the nearest is found once per fit, not twice).
 int64_t PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
-                            const Eigen::VectorXf& body, CleanupScratch& scratch,
-                            float* positions);
+                            const Eigen::VectorXf& body, std::span<const int32_t> anchor_rows,
+                            CleanupScratch& scratch, float* positions);
 
 }  // namespace fitbase::clothing
 

@@ -114,6 +114,30 @@ TEST(BodyCorrespondenceTest, FindsTheNearestAnchorBeyondTheFirstFour) {
   EXPECT_NEAR(positions(0), 0.3, 1e-6);
 }
 
+// Given the anchor rows (FollowBody's), the clean-up clears each vertex against its row's
+// triangle, not its nearest anchor's: here the mean's anchor on the +x face, whose plane the
+// vertex lies 20 cm behind.
+TEST(BodyCorrespondenceTest, ClearsAgainstTheGivenAnchorRows) {
+  const BodyCorrespondence correspondence = SlidingVertex(MakeCube());
+  Eigen::VectorXf body;
+  BodyPointsOfWeights(correspondence,
+                      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0))),
+                      body);
+  CleanupScratch scratch;
+  for (const int32_t row : {0, 1}) {
+    Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.104f, 0.0f);
+    const std::vector<int32_t> rows = {row};
+    EXPECT_EQ(PushOutOfBodyPoints(correspondence, body, rows, scratch, positions.data()), 1);
+    if (row == 0) {
+      EXPECT_NEAR(positions(0), 0.5 + 0.0025, 1e-6);
+      EXPECT_NEAR(positions(1), 0.104, 1e-6);
+    } else {
+      EXPECT_NEAR(positions(0), 0.3, 1e-6);
+      EXPECT_NEAR(positions(1), 0.105 + 0.0025, 1e-6);
+    }
+  }
+}
+
 TEST(BodyCorrespondenceTest, KeepsOnlyTheBodyVerticesItNeeds) {
   const CubeBody cube = MakeCube();
   core::Positions garment(1, 3);
@@ -366,6 +390,7 @@ TEST(BodyCorrespondenceTest, FollowBodyCarriesTheNormalOffsetAndSmoothsItOverThe
   EXPECT_NEAR(moved(1), 0.016f, 1e-6);
   EXPECT_NEAR(moved(4), 0.01f, 1e-6);
   EXPECT_NEAR(moved(7), 0.01f, 1e-6);
+  EXPECT_EQ(scratch.anchor_rows, (std::vector<int32_t>{0, 1, 2}));
   // With them: the 6 mm are shared over the triangle (each vertex averages itself and its two
   // neighbours), 2 mm each after the first round and after every later one.
   core::Triangles garment_triangles(1, 3);

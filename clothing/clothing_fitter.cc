@@ -29,7 +29,8 @@ absl::StatusOr<int64_t> ClothingFitter::FitToBody(const Eigen::VectorXf& weights
   FitClothing(model_, weights, scratch.features, out);
   BodyPointsOfWeights(correspondence_, weights, c.body);
   FollowBody(correspondence_, c.body, c.own_body, c, out.data());
-  return cleanup ? PushOutOfBodyPoints(correspondence_, c.own_body, c, out.data()) : 0;
+  return cleanup ? PushOutOfBodyPoints(correspondence_, c.own_body, c.anchor_rows, c, out.data())
+                 : 0;
 }
 
 }  // namespace fitbase::clothing
