@@ -487,7 +487,7 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
   PadBodyPoints(fitted_for, from4);
   const Eigen::Index vertex_count = correspondence.vertex_count();
   // Padded to 4 floats (w = 0), so that the rounds below add whole points in one vector
-  // operation each: they are most of the cost of a fit to a mesh.
+  // operation each.
   Eigen::VectorXf& field = scratch.follow;
   field.setZero(4 * vertex_count);
   scratch.anchor_rows.resize(static_cast<size_t>(vertex_count));

@@ -49,6 +49,10 @@ struct RowStats {
   std::string method;
   bool cleanup = false;
   std::vector<float> errors_mm;
+  // Per held-out avatar: the sum of its vertices' errors and their count, over every garment
+  // the row takes in, for the standard error of the mean over avatars.
+  std::vector<double> avatar_error_sum_mm;
+  std::vector<int64_t> avatar_vertex_count;
   int64_t below_0mm = 0;
   int64_t below_1mm = 0;
   double fit_micros_sum = 0;
@@ -59,10 +63,17 @@ struct RowStats {
   double edge_retreat_sum_mm = 0;
   int64_t edge_vertex_count = 0;
 
-  void Add(const core::Positions& fit, const core::Positions& truth,
+  // The fit of held-out avatar `avatar` against its drape `truth`.
+  void Add(size_t avatar, const core::Positions& fit, const core::Positions& truth,
            const core::TriangleBvh& body, const GarmentEdges& edges) {
+    if (avatar_error_sum_mm.size() <= avatar) {
+      avatar_error_sum_mm.resize(avatar + 1, 0);
+      avatar_vertex_count.resize(avatar + 1, 0);
+    }
     for (Eigen::Index v = 0; v < fit.rows(); ++v) {
       errors_mm.push_back(static_cast<float>(1000 * (fit.row(v) - truth.row(v)).norm()));
+      avatar_error_sum_mm[avatar] += errors_mm.back();
+      ++avatar_vertex_count[avatar];
       const core::SurfacePoint p = body.Closest(fit.row(v).transpose(), kPenetrationSearch);
       below_0mm += p.found && p.signed_distance < 0;
       below_1mm += p.found && p.signed_distance < 0.001;
@@ -96,6 +107,24 @@ struct RowStats {
     inside_share_max = std::max(inside_share_max, inside_max);
   }
 
+  // Of the avatars' own mean errors: their sample standard deviation over the square root of
+  // their count (0 for fewer than two avatars).
+  double StandardErrorOverAvatars() const {
+    std::vector<double> means;
+    for (size_t a = 0; a < avatar_error_sum_mm.size(); ++a) {
+      if (avatar_vertex_count[a] > 0) {
+        means.push_back(avatar_error_sum_mm[a] / static_cast<double>(avatar_vertex_count[a]));
+      }
+    }
+    if (means.size() < 2) return 0;
+    const double k = static_cast<double>(means.size());
+    double mean = 0;
+    for (double m : means) mean += m / k;
+    double squares = 0;
+    for (double m : means) squares += (m - mean) * (m - mean);
+    return std::sqrt(squares / (k - 1) / k);
+  }
+
   v1::MethodAccuracy Finish(double drape_seconds) const {
     v1::MethodAccuracy row;
     row.set_method(method);
@@ -106,6 +135,7 @@ struct RowStats {
     for (float e : sorted) sum += e;
     const double n = static_cast<double>(std::max<size_t>(sorted.size(), 1));
     row.set_error_mean_mm(sum / n);
+    row.set_error_mean_stderr_mm(StandardErrorOverAvatars());
     if (!sorted.empty()) {
       row.set_error_p95_mm(sorted[std::min(
           sorted.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(sorted.size())))]);
@@ -291,7 +321,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
       ASSIGN_OR_RETURN(core::Positions truth,
                        workers::DrapeResultPositions(truths[h], vertex_count));
       const core::Positions fitted = FromFlat(fit);
-      row.Add(fitted, truth, holdouts[h].surface, edges);
+      row.Add(h, fitted, truth, holdouts[h].surface, edges);
       RETURN_IF_ERROR(row.AddSkin(
           fitted, spec.fit_on_own_body ? holdouts[h].body : holdouts[h].weights_body, truth,
           holdouts[h], body_triangles, garment_triangles));
@@ -321,7 +351,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
                          workers::DrapeResultPositions(chosen, vertex_count));
         ASSIGN_OR_RETURN(core::Positions truth,
                          workers::DrapeResultPositions(truths[h], vertex_count));
-        row.Add(positions, truth, holdouts[h].surface, edges);
+        row.Add(h, positions, truth, holdouts[h].surface, edges);
         RETURN_IF_ERROR(row.AddSkin(positions, holdouts[h].weights_body, truth, holdouts[h],
                                     body_triangles, garment_triangles));
       }
@@ -340,7 +370,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
         ++row.fit_micros_count;
         ASSIGN_OR_RETURN(core::Positions truth,
                          workers::DrapeResultPositions(truths[h], vertex_count));
-        row.Add(fit.positions, truth, holdouts[h].surface, edges);
+        row.Add(h, fit.positions, truth, holdouts[h].surface, edges);
         // The binding fits the real body, so it is shown on it.
         RETURN_IF_ERROR(row.AddSkin(fit.positions, holdouts[h].body, truth, holdouts[h],
                                     body_triangles, garment_triangles));
@@ -351,7 +381,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
                          workers::DrapeResultPositions(on_weights_bodies[h], vertex_count));
         ASSIGN_OR_RETURN(core::Positions truth,
                          workers::DrapeResultPositions(truths[h], vertex_count));
-        row.Add(positions, truth, holdouts[h].surface, edges);
+        row.Add(h, positions, truth, holdouts[h].surface, edges);
         RETURN_IF_ERROR(row.AddSkin(positions, holdouts[h].weights_body, truth, holdouts[h],
                                     body_triangles, garment_triangles));
         row.fit_micros_sum += 1e6 * on_weights_bodies[h].report().seconds();
@@ -480,6 +510,12 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
       *out->add_methods() = rows[r].Finish(seconds);
       overall[r].errors_mm.insert(overall[r].errors_mm.end(), rows[r].errors_mm.begin(),
                                   rows[r].errors_mm.end());
+      overall[r].avatar_error_sum_mm.resize(rows[r].avatar_error_sum_mm.size(), 0);
+      overall[r].avatar_vertex_count.resize(rows[r].avatar_vertex_count.size(), 0);
+      for (size_t a = 0; a < rows[r].avatar_error_sum_mm.size(); ++a) {
+        overall[r].avatar_error_sum_mm[a] += rows[r].avatar_error_sum_mm[a];
+        overall[r].avatar_vertex_count[a] += rows[r].avatar_vertex_count[a];
+      }
       overall[r].below_0mm += rows[r].below_0mm;
       overall[r].below_1mm += rows[r].below_1mm;
       overall[r].edge_retreat_sum_mm += rows[r].edge_retreat_sum_mm;
@@ -669,16 +705,17 @@ namespace {
 void AppendTable(const google::protobuf::RepeatedPtrField<v1::MethodAccuracy>& rows,
                  std::string& md) {
   absl::StrAppend(&md,
-                  "| method | clean-up | mean mm | p95 mm | max mm | pen. < 0 mm | pen. < 1 mm | "
-                  "visible skin (max) | of it inside the cloth (max) | edge retreat mm | fit us | "
-                  "speed-up |\n"
-                  "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+                  "| method | clean-up | mean mm | ± mm | p95 mm | max mm | pen. < 0 mm | "
+                  "pen. < 1 mm | visible skin (max) | of it inside the cloth (max) | "
+                  "edge retreat mm | fit us | speed-up |\n"
+                  "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (const v1::MethodAccuracy& r : rows) {
-    absl::StrAppend(&md, absl::StrFormat("| %s | %s | %.2f | %.2f | %.1f | %.3f%% | %.3f%% | "
-                                         "%.2f%% (%.2f%%) | %.2f%% (%.2f%%) | %+.2f | %.1f | "
-                                         "%.0fx |\n",
+    absl::StrAppend(&md, absl::StrFormat("| %s | %s | %.2f | %.2f | %.2f | %.1f | %.3f%% | "
+                                         "%.3f%% | %.2f%% (%.2f%%) | %.2f%% (%.2f%%) | %+.2f | "
+                                         "%.1f | %.0fx |\n",
                                          r.method(), r.cleanup() ? "yes" : "no",
-                                         r.error_mean_mm(), r.error_p95_mm(), r.error_max_mm(),
+                                         r.error_mean_mm(), r.error_mean_stderr_mm(),
+                                         r.error_p95_mm(), r.error_max_mm(),
                                          100 * r.penetration_below_0mm(),
                                          100 * r.penetration_below_1mm(),
                                          100 * r.visible_skin(), 100 * r.visible_skin_max(),

@@ -272,6 +272,9 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
     EXPECT_GE(row.error_p95_mm(), row.error_mean_mm() * 0.5) << row.method();
     EXPECT_GE(row.error_max_mm(), row.error_p95_mm()) << row.method();
     EXPECT_GT(row.fit_microseconds(), 0) << row.method();
+    // Two avatars whose fits miss by different amounts: a spread, smaller than the mean.
+    EXPECT_GT(row.error_mean_stderr_mm(), 0) << row.method();
+    EXPECT_LT(row.error_mean_stderr_mm(), row.error_mean_mm()) << row.method();
   }
   // Penetration is reported for every method. The clean-up keeps vertices off the body of the
   // weights, not the customer's own mesh, so it may add penetration of the real body: on this
