@@ -109,13 +109,18 @@ struct RowStats {
 
   // Of the avatars' own mean errors: their sample standard deviation over the square root of
   // their count (0 for fewer than two avatars).
-  double StandardErrorOverAvatars() const {
+  std::vector<double> AvatarMeans() const {
     std::vector<double> means;
     for (size_t a = 0; a < avatar_error_sum_mm.size(); ++a) {
       if (avatar_vertex_count[a] > 0) {
         means.push_back(avatar_error_sum_mm[a] / static_cast<double>(avatar_vertex_count[a]));
       }
     }
+    return means;
+  }
+
+  double StandardErrorOverAvatars() const {
+    const std::vector<double> means = AvatarMeans();
     if (means.size() < 2) return 0;
     const double k = static_cast<double>(means.size());
     double mean = 0;
@@ -136,6 +141,7 @@ struct RowStats {
     const double n = static_cast<double>(std::max<size_t>(sorted.size(), 1));
     row.set_error_mean_mm(sum / n);
     row.set_error_mean_stderr_mm(StandardErrorOverAvatars());
+    for (const double m : AvatarMeans()) row.add_avatar_error_mean_mm(m);
     if (!sorted.empty()) {
       row.set_error_p95_mm(sorted[std::min(
           sorted.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(sorted.size())))]);

@@ -275,6 +275,13 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
     // Two avatars whose fits miss by different amounts: a spread, smaller than the mean.
     EXPECT_GT(row.error_mean_stderr_mm(), 0) << row.method();
     EXPECT_LT(row.error_mean_stderr_mm(), row.error_mean_mm()) << row.method();
+    ASSERT_EQ(row.avatar_error_mean_mm_size(), 2) << row.method();
+    EXPECT_NEAR(row.avatar_error_mean_mm(0) + row.avatar_error_mean_mm(1),
+                2 * row.error_mean_mm(), 1e-3 * row.error_mean_mm())
+        << row.method();
+    EXPECT_NEAR(std::abs(row.avatar_error_mean_mm(0) - row.avatar_error_mean_mm(1)) / 2,
+                row.error_mean_stderr_mm(), 1e-6)
+        << row.method();
   }
   // Penetration is reported for every method. The clean-up keeps vertices off the body of the
   // weights, not the customer's own mesh, so it may add penetration of the real body: on this
