@@ -107,8 +107,7 @@ struct RowStats {
     inside_share_max = std::max(inside_share_max, inside_max);
   }
 
-  // Of the avatars' own mean errors: their sample standard deviation over the square root of
-  // their count (0 for fewer than two avatars).
+  // Each avatar's own mean error, in the avatars' order.
   std::vector<double> AvatarMeans() const {
     std::vector<double> means;
     for (size_t a = 0; a < avatar_error_sum_mm.size(); ++a) {
@@ -119,6 +118,8 @@ struct RowStats {
     return means;
   }
 
+  // The sample standard deviation of AvatarMeans over the square root of their count (0 for
+  // fewer than two avatars).
   double StandardErrorOverAvatars() const {
     const std::vector<double> means = AvatarMeans();
     if (means.size() < 2) return 0;
@@ -516,8 +517,10 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
       *out->add_methods() = rows[r].Finish(seconds);
       overall[r].errors_mm.insert(overall[r].errors_mm.end(), rows[r].errors_mm.begin(),
                                   rows[r].errors_mm.end());
-      overall[r].avatar_error_sum_mm.resize(rows[r].avatar_error_sum_mm.size(), 0);
-      overall[r].avatar_vertex_count.resize(rows[r].avatar_vertex_count.size(), 0);
+      if (overall[r].avatar_error_sum_mm.size() < rows[r].avatar_error_sum_mm.size()) {
+        overall[r].avatar_error_sum_mm.resize(rows[r].avatar_error_sum_mm.size(), 0);
+        overall[r].avatar_vertex_count.resize(rows[r].avatar_vertex_count.size(), 0);
+      }
       for (size_t a = 0; a < rows[r].avatar_error_sum_mm.size(); ++a) {
         overall[r].avatar_error_sum_mm[a] += rows[r].avatar_error_sum_mm[a];
         overall[r].avatar_vertex_count[a] += rows[r].avatar_vertex_count[a];
