@@ -49,10 +49,13 @@ struct RowStats {
   std::string method;
   bool cleanup = false;
   std::vector<float> errors_mm;
-  // Per held-out avatar: the sum of its vertices' errors and their count, over every garment
-  // the row takes in, for the standard error of the mean over avatars.
-  std::vector<double> avatar_error_sum_mm;
-  std::vector<int64_t> avatar_vertex_count;
+  // Per held-out avatar, over every garment the row takes in: its vertices' errors summed and
+  // counted, for the standard error of the mean over avatars.
+  struct AvatarErrors {
+    double sum_mm = 0;
+    int64_t vertices = 0;
+  };
+  std::vector<AvatarErrors> avatars;
   int64_t below_0mm = 0;
   int64_t below_1mm = 0;
   double fit_micros_sum = 0;
@@ -66,14 +69,11 @@ struct RowStats {
   // The fit of held-out avatar `avatar` against its drape `truth`.
   void Add(size_t avatar, const core::Positions& fit, const core::Positions& truth,
            const core::TriangleBvh& body, const GarmentEdges& edges) {
-    if (avatar_error_sum_mm.size() <= avatar) {
-      avatar_error_sum_mm.resize(avatar + 1, 0);
-      avatar_vertex_count.resize(avatar + 1, 0);
-    }
+    if (avatars.size() <= avatar) avatars.resize(avatar + 1);
     for (Eigen::Index v = 0; v < fit.rows(); ++v) {
       errors_mm.push_back(static_cast<float>(1000 * (fit.row(v) - truth.row(v)).norm()));
-      avatar_error_sum_mm[avatar] += errors_mm.back();
-      ++avatar_vertex_count[avatar];
+      avatars[avatar].sum_mm += errors_mm.back();
+      ++avatars[avatar].vertices;
       const core::SurfacePoint p = body.Closest(fit.row(v).transpose(), kPenetrationSearch);
       below_0mm += p.found && p.signed_distance < 0;
       below_1mm += p.found && p.signed_distance < 0.001;
@@ -107,21 +107,27 @@ struct RowStats {
     inside_share_max = std::max(inside_share_max, inside_max);
   }
 
+  // Another row's per-avatar errors (the same avatars, another garment) added to these.
+  void AddAvatars(const RowStats& other) {
+    if (avatars.size() < other.avatars.size()) avatars.resize(other.avatars.size());
+    for (size_t a = 0; a < other.avatars.size(); ++a) {
+      avatars[a].sum_mm += other.avatars[a].sum_mm;
+      avatars[a].vertices += other.avatars[a].vertices;
+    }
+  }
+
   // Each avatar's own mean error, in the avatars' order.
   std::vector<double> AvatarMeans() const {
     std::vector<double> means;
-    for (size_t a = 0; a < avatar_error_sum_mm.size(); ++a) {
-      if (avatar_vertex_count[a] > 0) {
-        means.push_back(avatar_error_sum_mm[a] / static_cast<double>(avatar_vertex_count[a]));
-      }
+    for (const AvatarErrors& a : avatars) {
+      if (a.vertices > 0) means.push_back(a.sum_mm / static_cast<double>(a.vertices));
     }
     return means;
   }
 
-  // The sample standard deviation of AvatarMeans over the square root of their count (0 for
-  // fewer than two avatars).
-  double StandardErrorOverAvatars() const {
-    const std::vector<double> means = AvatarMeans();
+  // The sample standard deviation of `means` over the square root of their count (0 for fewer
+  // than two).
+  static double StandardError(const std::vector<double>& means) {
     if (means.size() < 2) return 0;
     const double k = static_cast<double>(means.size());
     double mean = 0;
@@ -141,8 +147,9 @@ struct RowStats {
     for (float e : sorted) sum += e;
     const double n = static_cast<double>(std::max<size_t>(sorted.size(), 1));
     row.set_error_mean_mm(sum / n);
-    row.set_error_mean_stderr_mm(StandardErrorOverAvatars());
-    for (const double m : AvatarMeans()) row.add_avatar_error_mean_mm(m);
+    const std::vector<double> avatar_means = AvatarMeans();
+    row.set_error_mean_stderr_mm(StandardError(avatar_means));
+    for (const double m : avatar_means) row.add_avatar_error_mean_mm(m);
     if (!sorted.empty()) {
       row.set_error_p95_mm(sorted[std::min(
           sorted.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(sorted.size())))]);
@@ -517,14 +524,7 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
       *out->add_methods() = rows[r].Finish(seconds);
       overall[r].errors_mm.insert(overall[r].errors_mm.end(), rows[r].errors_mm.begin(),
                                   rows[r].errors_mm.end());
-      if (overall[r].avatar_error_sum_mm.size() < rows[r].avatar_error_sum_mm.size()) {
-        overall[r].avatar_error_sum_mm.resize(rows[r].avatar_error_sum_mm.size(), 0);
-        overall[r].avatar_vertex_count.resize(rows[r].avatar_vertex_count.size(), 0);
-      }
-      for (size_t a = 0; a < rows[r].avatar_error_sum_mm.size(); ++a) {
-        overall[r].avatar_error_sum_mm[a] += rows[r].avatar_error_sum_mm[a];
-        overall[r].avatar_vertex_count[a] += rows[r].avatar_vertex_count[a];
-      }
+      overall[r].AddAvatars(rows[r]);
       overall[r].below_0mm += rows[r].below_0mm;
       overall[r].below_1mm += rows[r].below_1mm;
       overall[r].edge_retreat_sum_mm += rows[r].edge_retreat_sum_mm;
