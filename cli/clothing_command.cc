@@ -120,14 +120,13 @@ absl::Status WriteBodyOfWeights(const std::string& path, const pipeline::LoadedA
         "--body-out: the weights are on avatar basis '", weights.basis_id(), "'; --basis is ",
         basis.message.id()));
   }
-  if (weights.weights_size() != basis.pca.components.cols()) {
-    return absl::InvalidArgumentError(absl::StrCat("--body-out: ", weights.weights_size(),
-                                                   " weights for a basis of ",
-                                                   basis.pca.components.cols(), " components"));
+  absl::StatusOr<Eigen::VectorXd> checked =
+      pipeline::CheckedWeights(weights, basis.pca.components.cols(), basis.message.id());
+  if (!checked.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("--body-out: ", checked.status().message()));
   }
   ASSIGN_OR_RETURN(core::Mesh body, proto::MeshFromProto(basis.message.mean()));
-  body.positions = pipeline::BodyOfWeights(
-      basis, Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size()));
+  body.positions = pipeline::BodyOfWeights(basis, *checked);
   return core::WriteObj(path, body);
 }
 

@@ -1,5 +1,7 @@
 #include "pipeline/avatar_projection.h"
 
+#include <cmath>
+
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
 #include "proto/avatar_basis_codec.h"
@@ -12,6 +14,23 @@ absl::StatusOr<LoadedAvatarBasis> LoadAvatarBasis(const std::filesystem::path& p
   RETURN_IF_ERROR(proto::ReadMessageFile(path, &basis.message));
   ASSIGN_OR_RETURN(basis.pca, proto::PcaBasisFromProto(basis.message));
   return basis;
+}
+
+absl::StatusOr<Eigen::VectorXd> CheckedWeights(const v1::AvatarWeights& weights,
+                                               int64_t components, absl::string_view basis_id) {
+  if (weights.weights_size() != components) {
+    return absl::InvalidArgumentError(absl::StrCat("the weights have ", weights.weights_size(),
+                                                   " components; avatar basis ", basis_id,
+                                                   " has ", components));
+  }
+  Eigen::VectorXd w(components);
+  for (int k = 0; k < components; ++k) {
+    if (!std::isfinite(weights.weights(k))) {
+      return absl::InvalidArgumentError(absl::StrCat("weight ", k, " is not finite"));
+    }
+    w(k) = weights.weights(k);
+  }
+  return w;
 }
 
 absl::StatusOr<v1::AvatarWeights> ProjectAvatar(const LoadedAvatarBasis& basis,

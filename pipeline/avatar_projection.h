@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "core/mesh.h"
 #include "core/pca_basis.h"
 #include "fitbase/v1/avatar.pb.h"
@@ -23,6 +24,11 @@ absl::StatusOr<LoadedAvatarBasis> LoadAvatarBasis(const std::filesystem::path& p
 // have the basis's vertex count (InvalidArgument naming both otherwise).
 absl::StatusOr<v1::AvatarWeights> ProjectAvatar(const LoadedAvatarBasis& basis,
                                                 const core::Mesh& avatar);
+
+// The weights as numbers, checked: `components` of them (the count of avatar basis
+// `basis_id`), all finite. InvalidArgument naming the problem otherwise.
+absl::StatusOr<Eigen::VectorXd> CheckedWeights(const v1::AvatarWeights& weights,
+                                               int64_t components, absl::string_view basis_id);
 
 // The body of the weights, mean + components x weights: the body a fit is made for and the fit
 // service returns with it, B x 3 (m). weights: one finite weight per component of the basis

@@ -40,25 +40,6 @@ absl::Status CheckAlive(const grpc::CallbackServerContext& context) {
   return absl::OkStatus();
 }
 
-// The weights as numbers, checked: `components` of them (the count of avatar basis
-// `basis_id`), all finite. INVALID_ARGUMENT naming the problem otherwise.
-absl::StatusOr<Eigen::VectorXd> CheckedWeights(const v1::AvatarWeights& weights,
-                                               int64_t components, absl::string_view basis_id) {
-  if (weights.weights_size() != components) {
-    return absl::InvalidArgumentError(absl::StrCat("the weights have ", weights.weights_size(),
-                                                   " components; avatar basis ", basis_id,
-                                                   " has ", components));
-  }
-  Eigen::VectorXd w(components);
-  for (int k = 0; k < components; ++k) {
-    if (!std::isfinite(weights.weights(k))) {
-      return absl::InvalidArgumentError(absl::StrCat("weight ", k, " is not finite"));
-    }
-    w(k) = weights.weights(k);
-  }
-  return w;
-}
-
 // What a request that names no method is fitted with: the most accurate one built, kernel,
 // else linear (catalogues built before kernel).
 constexpr const char* kDefaultMethods[] = {"kernel", "linear"};
@@ -107,8 +88,8 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
   if (!found.ok()) return found.status();
   out.clothing = *std::move(found);
   ASSIGN_OR_RETURN(const Eigen::VectorXd checked,
-                   CheckedWeights(weights, out.clothing->fitter.model().component_count,
-                                  weights.basis_id()));
+                   pipeline::CheckedWeights(
+                       weights, out.clothing->fitter.model().component_count, weights.basis_id()));
   const Eigen::VectorXf w = checked.cast<float>();
   thread_local clothing::FitScratch scratch;
   const absl::Time start = absl::Now();
@@ -185,7 +166,8 @@ absl::StatusOr<std::shared_ptr<const ServedGarment>> GarmentForWeights(
 absl::StatusOr<core::Positions> BodyPositions(const pipeline::LoadedAvatarBasis& basis,
                                               const v1::AvatarWeights& weights) {
   ASSIGN_OR_RETURN(const Eigen::VectorXd w,
-                   CheckedWeights(weights, basis.pca.variances.size(), basis.message.id()));
+                   pipeline::CheckedWeights(weights, basis.pca.variances.size(),
+                                            basis.message.id()));
   return pipeline::BodyOfWeights(basis, w);
 }
 
