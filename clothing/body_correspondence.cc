@@ -11,6 +11,7 @@
 #include "Eigen/Geometry"
 #include "absl/strings/str_cat.h"
 #include "core/matrix_vector.h"
+#include "core/mesh.h"
 #include "core/status_macros.h"
 #include "core/triangle_bvh.h"
 
@@ -53,29 +54,12 @@ constexpr float kGuardDepth = static_cast<float>(kGuardReach);
 // two guarded triangles whose projections leave a gap on a convex garment is still caught.
 constexpr float kGuardSlack = 0.05f;
 
-// Area-weighted vertex normals (unit, or zero for a vertex no triangle uses).
-core::Positions VertexNormals(const core::Positions& positions, const core::Triangles& triangles) {
-  core::Positions normals = core::Positions::Zero(positions.rows(), 3);
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
-    const Eigen::Vector3d a = positions.row(triangles(t, 0));
-    const Eigen::Vector3d cross =
-        (positions.row(triangles(t, 1)).transpose() - a).cross(
-            positions.row(triangles(t, 2)).transpose() - a);
-    for (int c = 0; c < 3; ++c) normals.row(triangles(t, c)) += cross.transpose();
-  }
-  for (Eigen::Index v = 0; v < normals.rows(); ++v) {
-    const double length = normals.row(v).norm();
-    if (length > 0) normals.row(v) /= length;
-  }
-  return normals;
-}
-
 // Garment triangles a body vertex lay under (closest drape point within kGuardReach, on the
 // outer side of the skin) in one example: counted into seen[body vertex].
 void CountGuards(const core::Positions& body, const core::Triangles& body_triangles,
                  const std::vector<bool>& skin, const core::TriangleBvh& garment,
                  std::vector<std::vector<GuardCount>>& seen) {
-  const core::Positions normals = VertexNormals(body, body_triangles);
+  const core::Positions normals = core::VertexNormals(body, body_triangles);
   for (Eigen::Index b = 0; b < body.rows(); ++b) {
     if (!skin[b]) continue;
     const Eigen::Vector3d p = body.row(b).transpose();
@@ -85,9 +69,8 @@ void CountGuards(const core::Positions& body, const core::Triangles& body_triang
     const Eigen::Vector3d n = normals.row(b).transpose();
     // Beside a hem the closest drape point lies along the skin, not over it.
     if (up.dot(n) < 0.5 * up.norm()) continue;
-    const Eigen::RowVector3i t = garment.triangles().row(closest.triangle);
-    const core::Positions& g = garment.positions();
-    const Eigen::Vector3d face = (g.row(t[1]) - g.row(t[0])).cross(g.row(t[2]) - g.row(t[0]));
+    const Eigen::Vector3d face =
+        core::TriangleCross(garment.positions(), garment.triangles(), closest.triangle);
     CountTriangle(seen[b], GuardCount{closest.triangle, 1, face.dot(n) < 0});
   }
 }

@@ -28,6 +28,15 @@ struct PolygonFaces {
 // Splits every polygon into a fan from its first corner, keeping the corner orientation.
 Triangles Triangulate(const PolygonFaces& faces);
 
+// (b - a) x (c - a) of triangle t, whose corners a, b, c are rows of positions (V x 3):
+// along its normal (outward for a counter-clockwise triangle), twice its area long (m^2).
+Eigen::Vector3d TriangleCross(const Positions& positions, const Triangles& triangles,
+                              Eigen::Index t);
+
+// Area-weighted vertex normals: V x 3, unit, or zero for a vertex no triangle uses (or whose
+// triangles' crosses cancel). triangles: T x 3 rows into positions (V x 3).
+Positions VertexNormals(const Positions& positions, const Triangles& triangles);
+
 // positions (V x 3) as 3V floats, xyz interleaved: the layout a body travels in to a fit.
 std::vector<float> InterleavedFloats(const Positions& positions);
 

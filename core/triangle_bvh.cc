@@ -283,18 +283,11 @@ void TriangleBvh::Refit(const Positions& positions) {
   }
 }
 
-Eigen::Vector3d TriangleBvh::FaceCross(int32_t t) const {
-  const Eigen::Vector3d a = positions_.row(triangles_(t, 0)).transpose();
-  const Eigen::Vector3d b = positions_.row(triangles_(t, 1)).transpose();
-  const Eigen::Vector3d c = positions_.row(triangles_(t, 2)).transpose();
-  return (b - a).cross(c - a);
-}
-
 Eigen::Vector3d TriangleBvh::EdgeNormal(int32_t t, int k) const {
   const int32_t edge = triangle_edges_[t][k];
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (int32_t i = edge_offsets_[edge]; i < edge_offsets_[edge + 1]; ++i) {
-    sum += FaceCross(edge_triangles_[i]).normalized();
+    sum += TriangleCross(positions_, triangles_, edge_triangles_[i]).normalized();
   }
   return sum.normalized();
 }
@@ -305,7 +298,7 @@ Eigen::Vector3d TriangleBvh::VertexNormal(int32_t t, int k) const {
   for (int32_t i = vertex_offsets_[vertex]; i < vertex_offsets_[vertex + 1]; ++i) {
     const int32_t other = vertex_corners_[i] / 3;
     const int corner = vertex_corners_[i] % 3;
-    const Eigen::Vector3d cross = FaceCross(other);
+    const Eigen::Vector3d cross = TriangleCross(positions_, triangles_, other);
     const double twice_area = cross.norm();
     if (twice_area == 0.0) continue;
     const Eigen::Vector3d p = positions_.row(vertex).transpose();
@@ -396,12 +389,12 @@ SurfacePoint TriangleBvh::Closest(const Eigen::Vector3d& query, double max_dista
   } else if (best_hit.feature == Feature::kVertex) {
     normal = VertexNormal(best_triangle, best_hit.k);
   } else {
-    normal = FaceCross(best_triangle).normalized();
+    normal = TriangleCross(positions_, triangles_, best_triangle).normalized();
   }
   // A feature whose own normals cancel or vanish (folded or degenerate triangles) borrows the
   // closest triangle's face normal; where that vanishes too there is no side to tell, and the
   // offset direction is the only normal a collision response can use.
-  if (normal.squaredNorm() == 0.0) normal = FaceCross(best_triangle).normalized();
+  if (normal.squaredNorm() == 0.0) normal = TriangleCross(positions_, triangles_, best_triangle).normalized();
   if (normal.squaredNorm() == 0.0) normal = (query - best_hit.point).normalized();
   const double distance = std::sqrt(best2);
   result.found = true;

@@ -83,8 +83,6 @@ class TriangleBvh {
   // Fills edge and vertex incidence, which pseudo-normals need and the topology fixes.
   void BuildAdjacency(Eigen::Index vertex_count);
 
-  // (b - a) x (c - a) of triangle t: twice its area along its normal.
-  Eigen::Vector3d FaceCross(int32_t t) const;
   // Pseudo-normal of triangle t's side k (corners k, k + 1) or its corner k.
   Eigen::Vector3d EdgeNormal(int32_t t, int k) const;
   Eigen::Vector3d VertexNormal(int32_t t, int k) const;

@@ -11,6 +11,7 @@
 #include "body/body_measurements.h"
 #include "body/body_model.h"
 #include "core/dihedral_angle.h"
+#include "core/mesh.h"
 
 namespace fitbase::workers {
 namespace {
@@ -103,9 +104,8 @@ absl::StatusOr<ClothModel> BuildClothModel(const core::Positions& positions,
   Eigen::VectorXd mass = Eigen::VectorXd::Zero(n);
   for (Eigen::Index t = 0; t < model.triangles.rows(); ++t) {
     const auto tri = model.triangles.row(t);
-    const Eigen::Vector3d a = positions.row(tri(0)), b = positions.row(tri(1)),
-                          c = positions.row(tri(2));
-    const double third = areal_density * 0.5 * (b - a).cross(c - a).norm() / 3.0;
+    const double third =
+        areal_density * 0.5 * core::TriangleCross(positions, model.triangles, t).norm() / 3.0;
     for (int k = 0; k < 3; ++k) {
       mass(tri(k)) += third;
       edge_faces[Sorted(tri(k), tri((k + 1) % 3))].push_back(static_cast<int32_t>(t));

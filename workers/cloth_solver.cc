@@ -10,6 +10,7 @@
 #include "body/body_measurements.h"
 #include "body/body_model.h"
 #include "core/dihedral_angle.h"
+#include "core/mesh.h"
 #include "workers/fit_metrics.h"
 
 namespace fitbase::workers {
@@ -101,10 +102,8 @@ void ClothSolver::HoldAnchors(const core::TriangleBvh& body) {
   tie_holds_.resize(ties_.size());
   for (size_t i = 0; i < ties_.size(); ++i) {
     const SkinTie& tie = ties_[i];
-    const auto tri = body.triangles().row(tie.skin.triangle);
-    const Eigen::Vector3d a = p.row(tri(0)).transpose();
     tie_holds_[i].normal =
-        (p.row(tri(1)).transpose() - a).cross(p.row(tri(2)).transpose() - a).normalized();
+        core::TriangleCross(p, body.triangles(), tie.skin.triangle).normalized();
     tie_holds_[i].target = OnSkin(body, tie.skin) + tie.offset;
   }
 }
@@ -599,21 +598,14 @@ std::vector<ClothSolver::Poke> ClothSolver::FindPokes(const core::TriangleBvh& b
   std::vector<Poke> pokes;
   garment_bvh_->Refit(positions_);
   const core::Positions& bp = body.positions();
-  const core::Triangles& bt = body.triangles();
   // Area-weighted body vertex normals: enough to tell outward from inward here.
-  core::Positions normals = core::Positions::Zero(bp.rows(), 3);
-  for (Eigen::Index t = 0; t < bt.rows(); ++t) {
-    const Eigen::RowVector3d n = (bp.row(bt(t, 1)) - bp.row(bt(t, 0)))
-                                     .cross(bp.row(bt(t, 2)) - bp.row(bt(t, 0)));
-    for (int k = 0; k < 3; ++k) normals.row(bt(t, k)) += n;
-  }
+  const core::Positions normals = core::VertexNormals(bp, body.triangles());
   const Eigen::RowVector3d lo = positions_.colwise().minCoeff().array() - kPokeSearch;
   const Eigen::RowVector3d hi = positions_.colwise().maxCoeff().array() + kPokeSearch;
   for (Eigen::Index b = 0; b < bp.rows(); ++b) {
     const Eigen::RowVector3d p = bp.row(b);
     if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
-    const double norm = normals.row(b).norm();
-    if (norm == 0) continue;
+    if (normals.row(b).squaredNorm() == 0) continue;
     const core::SurfacePoint hit = garment_bvh_->Closest(p.transpose(), kPokeSearch);
     if (!hit.found) continue;
     // In a crease (armpit, crotch) the triangle may belong to the garment over the facing
@@ -625,7 +617,7 @@ std::vector<ClothSolver::Poke> ClothSolver::FindPokes(const core::TriangleBvh& b
     // only triangles whose inside is nearest let female_casualsuit01's leggings snap over body
     // vertices under their edges between bodies 0.05 sigma apart (second difference 4.2 mm,
     // the same at half the step; 0.8 mm at half the step with edges poked too).
-    const Eigen::Vector3d normal = normals.row(b).transpose() / norm;
+    const Eigen::Vector3d normal = normals.row(b).transpose();
     const Eigen::Vector3d up = hit.point - p.transpose();
     if (std::abs(up.dot(normal)) < kOverShare * up.norm()) continue;
     pokes.push_back({static_cast<int32_t>(b), hit.triangle, hit.barycentric, normal});
