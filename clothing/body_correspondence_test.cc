@@ -135,18 +135,15 @@ TEST(BodyCorrespondenceTest, ClearsAgainstTheGivenAnchorRows) {
   }
 }
 
-// One garment vertex, 5 mm over the cube's top face at the mean, anchored there.
-BodyCorrespondence OverTheTop(const CubeBody& cube) {
-  core::Positions garment(1, 3);
-  garment << 0.1, 0.505, 0.2;
-  return *BuildBodyCorrespondence({{&garment, Eigen::VectorXd::Zero(1)}}, cube.basis,
-                                  cube.triangles, core::Triangles(), 0.0025, 1);
-}
-
 // A vertex under the top face is pushed out however deep it lies, down to kAnchorDepth; deeper,
 // the top's plane is no longer the body's surface over it, and it is left alone.
 TEST(BodyCorrespondenceTest, PushesAVertexOutOnlyFromWithinTheAnchorDepth) {
-  const BodyCorrespondence correspondence = OverTheTop(MakeCube());
+  const CubeBody cube = MakeCube();
+  core::Positions garment(1, 3);
+  garment << 0.1, 0.505, 0.2;
+  const BodyCorrespondence correspondence =
+      *BuildBodyCorrespondence({{&garment, Eigen::VectorXd::Zero(1)}}, cube.basis, cube.triangles,
+                               core::Triangles(), 0.0025, 1);
   CleanupScratch scratch;
   for (const double depth : {0.001, kAnchorDepth - 0.001, kAnchorDepth + 0.001, 0.3}) {
     Eigen::VectorXf positions = Eigen::Vector3f(0.1f, static_cast<float>(0.5 - depth), 0.2f);
@@ -159,7 +156,12 @@ TEST(BodyCorrespondenceTest, PushesAVertexOutOnlyFromWithinTheAnchorDepth) {
 }
 
 TEST(BodyCorrespondenceTest, KeepsOnlyTheBodyVerticesItNeeds) {
-  const BodyCorrespondence correspondence = OverTheTop(MakeCube());
+  const CubeBody cube = MakeCube();
+  core::Positions garment(1, 3);
+  garment << 0.1, 0.505, 0.2;
+  const BodyCorrespondence correspondence =
+      *BuildBodyCorrespondence({{&garment, Eigen::VectorXd::Zero(1)}}, cube.basis, cube.triangles,
+                               core::Triangles(), 0.0025, 1);
   EXPECT_EQ(correspondence.body_vertices.size(), 3u);
   EXPECT_EQ(correspondence.body_components.rows(), 9);
   EXPECT_NEAR(correspondence.barycentric.sum(), 1.0f, 1e-6);
