@@ -526,7 +526,6 @@ int64_t PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
                             const Eigen::VectorXf& body, std::span<const int32_t> anchor_rows,
                             CleanupScratch& scratch, float* positions) {
   const float offset = static_cast<float>(correspondence.offset);
-  const float deepest = static_cast<float>(kAnchorDepth);
   const Eigen::Index vertex_count = correspondence.vertex_count();
   auto& requests = scratch.requests;
   requests.clear();
@@ -550,7 +549,6 @@ int64_t PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
     // |cross|, so that a vertex clear of the plane is passed over without a root or a division.
     const float scaled = Dot(g - plane.corner, cross);
     if (scaled >= 0 && scaled * scaled >= offset * offset * area2) continue;
-    if (scaled < 0 && scaled * scaled > deepest * deepest * area2) continue;
     const float length = std::sqrt(area2);
     const F4 normal = cross / length;
     const int32_t i = static_cast<int32_t>(v);

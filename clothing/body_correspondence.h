@@ -67,15 +67,6 @@ struct CorrespondenceExample {
 // How far under a garment triangle (m) a body vertex of an example drape becomes a guard: fits
 // err by about a centimetre, so a body point well under the drape can still reach the fit.
 inline constexpr double kGuardReach = 0.02;
-// A vertex deeper than this (m) behind its anchor's triangle plane is left where it is: the
-// plane goes on past the body part under the anchor, and that far behind it there is no telling
-// inside from beside. On heavy men the straps of male_worksuit01, fitted 4 to 9 cm off their
-// drape, were pushed 16 to 33 cm along their anchors' normals, over the shoulders to the back
-// (253 mm from the drape). Limited to 5 cm, the women's four garments in M keep their mean,
-// penetration and visible skin on 30 held-out women, and female_casualsuit01's worst vertex
-// comes closer (72 -> 54 mm); at 3 cm female_sportsuit01 left three times as many vertices
-// inside the body.
-inline constexpr double kAnchorDepth = 0.05;
 // Guards per body vertex: its most frequent triangles over the examples. A second one caught
 // a little more skin (female garments, size M, 4 rounds of Jacobi smoothing: 0.80% of cloth
 // pixels shown as skin against 0.85%) for twice the guards; the smoothing carries a push to
@@ -170,11 +161,10 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
                 const Eigen::VectorXf& body, CleanupScratch& scratch, float* positions);
 
 // positions: 3V floats (m), xyz interleaved, moved in place; weights: N, checked by the
-// caller; correspondence: validated. Clears the body of the weights; a vertex deeper than
-// kAnchorDepth behind its anchor's plane is left where it is. Returns how many vertices moved.
-// No search and no iteration to convergence: the cost is bounded by V, K, G, U, N, the rounds
-// and the neighbour count (the smoothing visits only vertices its rounds carry a push to, at
-// most all of them).
+// caller; correspondence: validated. Clears the body of the weights. Returns how many vertices
+// moved. No search and no iteration to convergence: the cost is bounded by V, K, G, U, N, the
+// rounds and the neighbour count (the smoothing visits only vertices its rounds carry a push
+// to, at most all of them).
 int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& weights,
                       CleanupScratch& scratch, float* positions);
 

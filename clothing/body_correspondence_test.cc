@@ -67,8 +67,8 @@ TEST(BodyCorrespondenceTest, PushesOutOnlyTheVerticesTheCustomerBodyReaches) {
 
 // At the mean the vertex sits beside the +x face; in an example with the body lowered by 0.4 m
 // it sits on the top face. A customer lowered by 0.395 m has the fitted vertex 1 mm inside the
-// top: only the anchor from the second example sees that; the mean's anchor alone has the
-// vertex 20 cm behind the +x face's plane, too deep to say anything there.
+// top: only the anchor from the second example sees that; the mean's anchor alone would push
+// the vertex 20 cm sideways out of the +x face's plane.
 BodyCorrespondence SlidingVertex(const CubeBody& cube) {
   core::Positions at_mean(1, 3), lowered(1, 3);
   at_mean << 0.503, 0.3, 0.0;
@@ -115,9 +115,8 @@ TEST(BodyCorrespondenceTest, FindsTheNearestAnchorBeyondTheFirstFour) {
 }
 
 // Given the anchor rows (FollowBody's), the clean-up clears each vertex against its row's
-// triangle, not its nearest anchor's: against the top's, it rises out of the top; against the
-// mean's anchor on the +x face, whose plane it lies 20 cm behind (deeper than kAnchorDepth), it
-// stays where it is.
+// triangle, not its nearest anchor's: here the mean's anchor on the +x face, whose plane the
+// vertex lies 20 cm behind.
 TEST(BodyCorrespondenceTest, ClearsAgainstTheGivenAnchorRows) {
   const BodyCorrespondence correspondence = SlidingVertex(MakeCube());
   Eigen::VectorXf body;
@@ -128,30 +127,14 @@ TEST(BodyCorrespondenceTest, ClearsAgainstTheGivenAnchorRows) {
   for (const int32_t row : {0, 1}) {
     Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.104f, 0.0f);
     const std::vector<int32_t> rows = {row};
-    EXPECT_EQ(PushOutOfBodyPoints(correspondence, body, rows, scratch, positions.data()),
-              row == 0 ? 0 : 1);
-    EXPECT_NEAR(positions(0), 0.3, 1e-6);
-    EXPECT_NEAR(positions(1), row == 0 ? 0.104 : 0.105 + 0.0025, 1e-6);
-  }
-}
-
-// A vertex under the top face is pushed out however deep it lies, down to kAnchorDepth; deeper,
-// the top's plane is no longer the body's surface over it, and it is left alone.
-TEST(BodyCorrespondenceTest, PushesAVertexOutOnlyFromWithinTheAnchorDepth) {
-  const CubeBody cube = MakeCube();
-  core::Positions garment(1, 3);
-  garment << 0.1, 0.505, 0.2;
-  const BodyCorrespondence correspondence =
-      *BuildBodyCorrespondence({{&garment, Eigen::VectorXd::Zero(1)}}, cube.basis, cube.triangles,
-                               core::Triangles(), 0.0025, 1);
-  CleanupScratch scratch;
-  for (const double depth : {0.001, kAnchorDepth - 0.001, kAnchorDepth + 0.001, 0.3}) {
-    Eigen::VectorXf positions = Eigen::Vector3f(0.1f, static_cast<float>(0.5 - depth), 0.2f);
-    const bool within = depth < kAnchorDepth;
-    EXPECT_EQ(PushOutOfBody(correspondence, Eigen::VectorXf::Zero(1), scratch, positions.data()),
-              within ? 1 : 0)
-        << depth;
-    EXPECT_NEAR(positions(1), within ? 0.5 + 0.0025 : 0.5 - depth, 1e-6) << depth;
+    EXPECT_EQ(PushOutOfBodyPoints(correspondence, body, rows, scratch, positions.data()), 1);
+    if (row == 0) {
+      EXPECT_NEAR(positions(0), 0.5 + 0.0025, 1e-6);
+      EXPECT_NEAR(positions(1), 0.104, 1e-6);
+    } else {
+      EXPECT_NEAR(positions(0), 0.3, 1e-6);
+      EXPECT_NEAR(positions(1), 0.105 + 0.0025, 1e-6);
+    }
   }
 }
 
