@@ -383,18 +383,21 @@ SurfacePoint TriangleBvh::Closest(const Eigen::Vector3d& query, double max_dista
   }
   if (best_triangle < 0) return result;
 
+  const auto face = [&] {
+    return TriangleCross(positions_, triangles_, best_triangle).normalized();
+  };
   Eigen::Vector3d normal;
   if (best_hit.feature == Feature::kEdge) {
     normal = EdgeNormal(best_triangle, best_hit.k);
   } else if (best_hit.feature == Feature::kVertex) {
     normal = VertexNormal(best_triangle, best_hit.k);
   } else {
-    normal = TriangleCross(positions_, triangles_, best_triangle).normalized();
+    normal = face();
   }
   // A feature whose own normals cancel or vanish (folded or degenerate triangles) borrows the
   // closest triangle's face normal; where that vanishes too there is no side to tell, and the
   // offset direction is the only normal a collision response can use.
-  if (normal.squaredNorm() == 0.0) normal = TriangleCross(positions_, triangles_, best_triangle).normalized();
+  if (normal.squaredNorm() == 0.0) normal = face();
   if (normal.squaredNorm() == 0.0) normal = (query - best_hit.point).normalized();
   const double distance = std::sqrt(best2);
   result.found = true;
