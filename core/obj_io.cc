@@ -93,7 +93,9 @@ absl::StatusOr<Mesh> ReadObj(const std::filesystem::path& path) {
 }
 
 absl::Status WriteObj(const std::filesystem::path& path, const Mesh& mesh) {
-  return WriteGarmentObj(path, GarmentMesh{.mesh = mesh});
+  // No texture coordinates: a body or a fitted garment carries none.
+  return WriteGarmentObj(path,
+                         GarmentMesh{.mesh = mesh, .texcoords = {}, .face_texcoord_indices = {}});
 }
 
 }  // namespace fitbase::core
