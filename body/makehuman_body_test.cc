@@ -83,13 +83,7 @@ TEST(TriangleBvhTest, MakeHumanBodySignsAndSpeed) {
   core::TriangleBvh& bvh = *built;
 
   // Area-weighted vertex normals, independent of the tree's pseudo-normals.
-  core::Positions normals = core::Positions::Zero(mesh.positions.rows(), 3);
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    const Eigen::Vector3d a = Corner(mesh, t, 0);
-    const Eigen::RowVector3d cross =
-        (Corner(mesh, t, 1) - a).cross(Corner(mesh, t, 2) - a).transpose();
-    for (int k = 0; k < 3; ++k) normals.row(mesh.triangles(t, k)) += cross;
-  }
+  const core::Positions normals = core::VertexNormals(mesh.positions, mesh.triangles);
   // Torso height, 0.9 to 1.4 m above the soles. The hands hang at that height in MakeHuman's
   // default pose, beyond |x| = 0.35 m; their curled fingers are thinner than the 2 cm the two
   // offsets span.

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "Eigen/Geometry"
+#include "core/mesh.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -194,10 +195,9 @@ Tent MakeTent() {
     tent.triangles.row(5 + 2 * i) << i, 4 + j, 4 + i;
   }
   for (Eigen::Index t = 0; t < tent.triangles.rows(); ++t) {
-    const Eigen::Vector3d a = points.row(tent.triangles(t, 0));
-    const Eigen::Vector3d normal = (points.row(tent.triangles(t, 1)).transpose() - a)
-                                       .cross(points.row(tent.triangles(t, 2)).transpose() - a);
-    if (normal.y() < 0) std::swap(tent.triangles(t, 1), tent.triangles(t, 2));
+    if (core::TriangleCross(points, tent.triangles, t).y() < 0) {
+      std::swap(tent.triangles(t, 1), tent.triangles(t, 2));
+    }
   }
   tent.basis.mean = Eigen::Map<const Eigen::VectorXd>(points.data(), 27);
   tent.basis.components = Eigen::MatrixXd::Zero(27, 1);

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "Eigen/Geometry"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "body/body_model.h"
 #include "core/file_util.h"
+#include "core/mesh.h"
 #include "core/obj_io.h"
 #include "core/test_support.h"
 #include "tests/cli_runner.h"
@@ -138,17 +138,8 @@ TEST(CliTest, RenderSaysHowMuchSkinShowsThroughEachGarment) {
   ASSERT_TRUE(body.ok()) << body.status();
   // A "garment" that is the body moved 5 mm out along its vertex normals covers it everywhere;
   // moved 5 mm in, the skin shows wherever it would be seen.
-  const core::Triangles triangles = core::Triangulate(body->faces);
-  core::Positions normals = core::Positions::Zero(body->positions.rows(), 3);
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
-    const Eigen::RowVector3d a = body->positions.row(triangles(t, 0));
-    const Eigen::RowVector3d n = (body->positions.row(triangles(t, 1)) - a)
-                                     .cross(body->positions.row(triangles(t, 2)) - a);
-    for (int c = 0; c < 3; ++c) normals.row(triangles(t, c)) += n;
-  }
-  for (Eigen::Index v = 0; v < normals.rows(); ++v) {
-    if (normals.row(v).norm() > 0) normals.row(v).normalize();
-  }
+  const core::Positions normals =
+      core::VertexNormals(body->positions, core::Triangulate(body->faces));
   for (const auto& [name, shift] : {std::pair{"out.obj", 0.005}, std::pair{"in.obj", -0.005}}) {
     core::Mesh garment = *body;
     garment.positions += shift * normals;
