@@ -19,8 +19,12 @@
 //     the clean-up moved (random geometry moves every vertex, the most work a fit can take);
 //   - BM_ProjectAvatar/N: a 13,380-vertex avatar projected onto N components;
 //   - BM_FitStoredBasis/0..4 (--clothing=PATH.fbc): a real garment size, the model alone, with
-//     the clean-up, the clean-up without guards, without smoothing, and fitted to a mesh.
+//     the clean-up, the clean-up without guards, without smoothing, and fitted to a mesh;
+//     BM_FitStoredBasis/5 (with --avatar=PATH.obj --weights=PATH.json, the avatar's projection
+//     from `fitbase basis project --json`): fitted to that customer's own mesh, counter `deep`
+//     the pushes checked against the mesh per fit (each such fit refits the mesh's tree).
 // Usage: fitbase_fit_bench [--benchmark_filter=...] [--clothing=PATH.fbc]
+//        [--avatar=PATH.obj --weights=PATH.json]
 #include <random>
 
 #include "benchmark/benchmark.h"
@@ -30,8 +34,13 @@
 #include "core/kernel_ridge.h"
 #include "core/matrix_vector.h"
 #include "core/pca_basis.h"
+#include "fitbase/v1/avatar.pb.h"
 #include "fitbase/v1/clothing_basis.pb.h"
+#include "core/file_util.h"
+#include "core/mesh.h"
+#include "core/obj_io.h"
 #include "proto/clothing_basis_codec.h"
+#include "proto/json_codec.h"
 #include "proto/message_file.h"
 
 namespace fitbase {
@@ -42,6 +51,17 @@ constexpr int kBatch = 64;
 constexpr int kSgemmSize = 1024;
 
 double g_stream_bytes_per_second = 0;
+
+// A topology for the synthetic meshes a fit clears: strips of triangles over the body's
+// vertices (the fits that use it push nothing deep, so its shape is never searched).
+const core::Triangles& StripTopology() {
+  static const core::Triangles strip = [] {
+    core::Triangles t(kBodyVertices - 2, 3);
+    for (int i = 0; i + 2 < kBodyVertices; ++i) t.row(i) << i, i + 1, i + 2;
+    return t;
+  }();
+  return strip;
+}
 double g_sgemm_flops_per_second = 0;
 
 // Synthetic linear model (T = N terms): the fit's cost depends on sizes only.
@@ -244,7 +264,7 @@ void BM_FitCleanup(benchmark::State& state) {
       }
     }
     for (auto _ : state) {
-      moved = *fitter.FitToBody(w, mesh, true, scratch, out);
+      moved = *fitter.FitToBody(w, {mesh, &StripTopology()}, true, scratch, out);
       benchmark::DoNotOptimize(out.data());
     }
   }
@@ -254,10 +274,13 @@ void BM_FitCleanup(benchmark::State& state) {
 // --clothing=PATH: a stored clothing basis (.fbc), fitted at the weights of its last training
 // body (a sampled body for kernel), so the clean-up meets a real garment on a real body.
 std::string g_clothing_path;
+std::string g_avatar_path;
+std::string g_weights_path;
 
 // Arg 0: the model alone; 1: with the clean-up; 2: the clean-up without its triangle guards;
 // 3: the clean-up without smoothing; 4: with the clean-up, fitted to a mesh given with the
-// weights (FitToBody), here the body of the weights 1 mm higher.
+// weights (FitToBody), here the body of the weights 1 mm higher; 5: fitted to --avatar's mesh
+// at --weights.
 void BM_FitStoredBasis(benchmark::State& state) {
   v1::ClothingBasis message;
   if (!proto::ReadMessageFile(g_clothing_path, &message).ok()) {
@@ -284,7 +307,26 @@ void BM_FitStoredBasis(benchmark::State& state) {
           .cast<float>();
   clothing::FitScratch scratch;
   Eigen::VectorXf out;
-  if (state.range(0) == 4) {
+  if (state.range(0) == 5) {
+    absl::StatusOr<core::Mesh> avatar = core::ReadObj(g_avatar_path);
+    absl::StatusOr<std::string> json = core::ReadFileToString(g_weights_path);
+    v1::AvatarWeights weights;
+    if (!avatar.ok() || !json.ok() || !proto::ParseJson(*json, &weights).ok() ||
+        weights.weights_size() != loaded->model().component_count) {
+      state.SkipWithError("cannot read --avatar and --weights for this basis");
+      return;
+    }
+    const Eigen::VectorXf own_weights =
+        Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
+            .cast<float>();
+    const std::vector<float> mesh = core::InterleavedFloats(avatar->positions);
+    const core::Triangles triangles = core::Triangulate(avatar->faces);
+    for (auto _ : state) {
+      benchmark::DoNotOptimize(
+          fitter.FitToBody(own_weights, {mesh, &triangles}, true, scratch, out));
+    }
+    state.counters["deep"] = static_cast<double>(scratch.cleanup.deep_checks);
+  } else if (state.range(0) == 4) {
     const clothing::BodyCorrespondence& c = fitter.correspondence();
     Eigen::VectorXf points;
     clothing::BodyPointsOfWeights(c, w, points);
@@ -296,7 +338,8 @@ void BM_FitStoredBasis(benchmark::State& state) {
       }
     }
     for (auto _ : state) {
-      benchmark::DoNotOptimize(fitter.FitToBody(w, mesh, true, scratch, out));
+      benchmark::DoNotOptimize(
+          fitter.FitToBody(w, {mesh, &StripTopology()}, true, scratch, out));
     }
   } else {
     for (auto _ : state) {
@@ -373,10 +416,13 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg.rfind("--clothing=", 0) == 0) fitbase::g_clothing_path = arg.substr(11);
+    if (arg.rfind("--avatar=", 0) == 0) fitbase::g_avatar_path = arg.substr(9);
+    if (arg.rfind("--weights=", 0) == 0) fitbase::g_weights_path = arg.substr(10);
   }
   if (!fitbase::g_clothing_path.empty()) {
+    const bool customer = !fitbase::g_avatar_path.empty() && !fitbase::g_weights_path.empty();
     benchmark::RegisterBenchmark("BM_FitStoredBasis", fitbase::BM_FitStoredBasis)
-        ->DenseRange(0, 4)
+        ->DenseRange(0, customer ? 5 : 4)
         ->Unit(benchmark::kMicrosecond);
   }
   fitbase::LimitCapture reporter;

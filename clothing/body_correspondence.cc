@@ -200,6 +200,47 @@ AnchorPlane NearestAnchorPlane(const BodyCorrespondence& correspondence, const f
   return PlaneOfAnchor(correspondence, body4, NearestAnchor(correspondence, body4, g, v));
 }
 
+// The body mesh's tree, current for this clean-up: refitted to the mesh's positions when it
+// holds the mesh's topology (a customer's fits share it), else built.
+absl::StatusOr<const core::TriangleBvh*> CurrentBodyTree(const BodyMesh& mesh,
+                                                         CleanupScratch& scratch) {
+  std::optional<core::TriangleBvh>& tree = scratch.body_tree;
+  if (scratch.body_tree_current) return &*tree;
+  if (mesh.triangles == nullptr || mesh.triangles->rows() == 0) {
+    return absl::InvalidArgumentError("the body mesh has no triangles");
+  }
+  if (mesh.positions.size() % 3 != 0) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "the body mesh has ", mesh.positions.size(), " coordinates, not a multiple of 3"));
+  }
+  const auto vertex_count = static_cast<Eigen::Index>(mesh.positions.size() / 3);
+  core::Positions& positions = scratch.body_tree_positions;
+  positions.resize(vertex_count, 3);
+  for (Eigen::Index i = 0; i < vertex_count; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      const float x = mesh.positions[static_cast<size_t>(3 * i + c)];
+      if (!std::isfinite(x)) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("body vertex ", i, " has a non-finite coordinate"));
+      }
+      positions(i, c) = x;
+    }
+  }
+  const core::Triangles& triangles = *mesh.triangles;
+  if (tree && tree->positions().rows() == vertex_count &&
+      tree->triangles().rows() == triangles.rows() &&
+      std::equal(triangles.data(), triangles.data() + triangles.size(),
+                 tree->triangles().data())) {
+    tree->Refit(positions);
+  } else {
+    tree.reset();
+    ASSIGN_OR_RETURN(core::TriangleBvh built, core::TriangleBvh::Build(positions, triangles));
+    tree = std::move(built);
+  }
+  scratch.body_tree_current = true;
+  return &*tree;
+}
+
 }  // namespace
 
 absl::Status SetGarmentNeighbors(const core::Triangles& garment_triangles,
@@ -519,12 +560,17 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
 int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& weights,
                       CleanupScratch& scratch, float* positions) {
   BodyPointsOfWeights(correspondence, weights, scratch.body);
-  return PushOutOfBodyPoints(correspondence, scratch.body, {}, scratch, positions);
+  // Without a mesh nothing can fail.
+  return *PushOutOfBodyPoints(correspondence, scratch.body, {}, nullptr, scratch, positions);
 }
 
-int64_t PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
-                            const Eigen::VectorXf& body, std::span<const int32_t> anchor_rows,
-                            CleanupScratch& scratch, float* positions) {
+absl::StatusOr<int64_t> PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
+                                            const Eigen::VectorXf& body,
+                                            std::span<const int32_t> anchor_rows,
+                                            const BodyMesh* mesh, CleanupScratch& scratch,
+                                            float* positions) {
+  scratch.body_tree_current = false;
+  scratch.deep_checks = 0;
   const float offset = static_cast<float>(correspondence.offset);
   const Eigen::Index vertex_count = correspondence.vertex_count();
   auto& requests = scratch.requests;
@@ -552,6 +598,34 @@ int64_t PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
     const float length = std::sqrt(area2);
     const F4 normal = cross / length;
     const int32_t i = static_cast<int32_t>(v);
+    if (mesh != nullptr && -scaled > kDeepPush * length) {
+      ++scratch.deep_checks;
+      ASSIGN_OR_RETURN(const core::TriangleBvh* tree, CurrentBodyTree(*mesh, scratch));
+      const core::SurfacePoint nearest = tree->Closest(
+          Eigen::Vector3d(gv[0], gv[1], gv[2]), std::numeric_limits<double>::infinity());
+      if (nearest.found) {
+        const bool clear = nearest.signed_distance >= offset;
+        // A surface facing away from the anchor's side lies between the vertex and the
+        // plane: the vertex is cleared against it, not pushed on through the body.
+        if (nearest.normal.dot(Eigen::Vector3d(normal[0], normal[1], normal[2])) < 0) {
+          if (clear) continue;
+          const Eigen::Vector3f out = nearest.normal.cast<float>();
+          requests.push_back({{i, i, i},
+                              {1, 0, 0},
+                              Eigen::Vector4f(out.x(), out.y(), out.z(), 0),
+                              static_cast<float>(offset - nearest.signed_distance)});
+          continue;
+        }
+        // Nothing collides: the plane's push is only the anchor's pull back to its side.
+        if (clear) {
+          requests.push_back({{i, i, i},
+                              {1, 0, 0},
+                              Eigen::Vector4f(normal[0], normal[1], normal[2], 0),
+                              static_cast<float>(kDeepPush)});
+          continue;
+        }
+      }
+    }
     requests.push_back({{i, i, i},
                         {1, 0, 0},
                         Eigen::Vector4f(normal[0], normal[1], normal[2], 0),

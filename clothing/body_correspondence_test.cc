@@ -1,6 +1,7 @@
 #include "clothing/body_correspondence.h"
 
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -128,7 +129,9 @@ TEST(BodyCorrespondenceTest, ClearsAgainstTheGivenAnchorRows) {
   for (const int32_t row : {0, 1}) {
     Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.104f, 0.0f);
     const std::vector<int32_t> rows = {row};
-    EXPECT_EQ(PushOutOfBodyPoints(correspondence, body, rows, scratch, positions.data()), 1);
+    EXPECT_EQ(*PushOutOfBodyPoints(correspondence, body, rows, nullptr, scratch,
+                                   positions.data()),
+              1);
     if (row == 0) {
       EXPECT_NEAR(positions(0), 0.5 + 0.0025, 1e-6);
       EXPECT_NEAR(positions(1), 0.104, 1e-6);
@@ -137,6 +140,135 @@ TEST(BodyCorrespondenceTest, ClearsAgainstTheGivenAnchorRows) {
       EXPECT_NEAR(positions(1), 0.105 + 0.0025, 1e-6);
     }
   }
+}
+
+// The cube lowered by 0.395 m (its top at y = 0.105) as a whole mesh: 3B floats and its
+// triangles.
+std::vector<float> LoweredCubeMesh() {
+  std::vector<float> mesh(24);
+  for (int i = 0; i < 8; ++i) {
+    mesh[3 * i] = i & 1 ? 0.5f : -0.5f;
+    mesh[3 * i + 1] = (i & 2 ? 0.5f : -0.5f) - 0.395f;
+    mesh[3 * i + 2] = i & 4 ? 0.5f : -0.5f;
+  }
+  return mesh;
+}
+
+// Against the anchor on the +x face (row 0), every vertex below lies deep behind the anchor's
+// plane, and without the mesh that plane pushes each out through the +x face. With the mesh,
+// a vertex at the -x face, which looks away from the anchor's side, is cleared against that
+// face instead: left alone 10 cm outside it, pushed out to the offset from 1 mm outside or
+// 1 cm inside it. At the top (normal +y, not at an obtuse angle to +x) the plane's push
+// stands, as without the mesh, for a vertex 1 mm inside; one 9.5 cm above, clear of the body,
+// is pushed kDeepPush along the anchor's normal, no further.
+TEST(BodyCorrespondenceTest, DeepPushesAskTheBodyMesh) {
+  const CubeBody cube = MakeCube();
+  const BodyCorrespondence correspondence = SlidingVertex(cube);
+  Eigen::VectorXf body;
+  BodyPointsOfWeights(correspondence,
+                      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0))),
+                      body);
+  const std::vector<float> mesh = LoweredCubeMesh();
+  const BodyMesh cube_mesh{mesh, &cube.triangles};
+  const std::vector<int32_t> plus_x = {0};
+  CleanupScratch scratch;
+  const auto clean = [&](Eigen::Vector3f at, const BodyMesh* with) {
+    Eigen::VectorXf positions = at;
+    const int64_t moved =
+        *PushOutOfBodyPoints(correspondence, body, plus_x, with, scratch, positions.data());
+    EXPECT_EQ(moved, positions == Eigen::VectorXf(at) ? 0 : 1);
+    return Eigen::Vector3f(positions);
+  };
+
+  const Eigen::Vector3f beside(-0.6f, -0.4f, 0.0f);
+  EXPECT_NEAR(clean(beside, nullptr).x(), 0.5 + 0.0025, 1e-6);  // Through the body.
+  EXPECT_EQ(clean(beside, &cube_mesh), beside);
+  EXPECT_EQ(scratch.deep_checks, 1);
+  for (const float x : {-0.501f, -0.49f}) {
+    const Eigen::Vector3f out = clean(Eigen::Vector3f(x, -0.4f, 0.0f), &cube_mesh);
+    EXPECT_NEAR(out.x(), -0.5 - 0.0025, 1e-6);
+    EXPECT_NEAR(out.y(), -0.4, 1e-6);
+  }
+
+  const Eigen::Vector3f in_top(0.3f, 0.104f, 0.0f);
+  EXPECT_NEAR(clean(in_top, &cube_mesh).x(), 0.5 + 0.0025, 1e-6);
+  const Eigen::Vector3f above(0.3f, 0.2f, 0.0f);
+  const Eigen::Vector3f pulled = clean(above, &cube_mesh);
+  EXPECT_NEAR(pulled.x(), 0.3 + kDeepPush, 1e-6);
+  EXPECT_NEAR(pulled.y(), 0.2, 1e-6);
+  EXPECT_EQ(scratch.deep_checks, 1);
+
+  // 2 cm behind the plane is not deep: the mesh is not asked.
+  const Eigen::Vector3f shallow(0.48f, 0.2f, 0.0f);
+  EXPECT_NEAR(clean(shallow, &cube_mesh).x(), 0.5 + 0.0025, 1e-6);
+  EXPECT_EQ(scratch.deep_checks, 0);
+}
+
+// The tree the scratch keeps is refitted to each mesh: a fit after one on another body answers
+// as a fresh scratch does, and a mesh of another topology gets a tree of its own.
+TEST(BodyCorrespondenceTest, DeepPushesRefitTheTreeToEachMesh) {
+  const CubeBody cube = MakeCube();
+  const BodyCorrespondence correspondence = SlidingVertex(cube);
+  Eigen::VectorXf body;
+  BodyPointsOfWeights(correspondence,
+                      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0))),
+                      body);
+  const std::vector<int32_t> plus_x = {0};
+  const std::vector<float> lowered = LoweredCubeMesh();
+  std::vector<float> wider = lowered;
+  for (size_t i = 0; i < wider.size(); i += 3) wider[i] *= 1.1f;  // The -x face at -0.55.
+  const Eigen::Vector3f in_left(-0.49f, -0.4f, 0.0f);
+  const auto clean = [&](const std::vector<float>& mesh, const core::Triangles& triangles,
+                         CleanupScratch& scratch) {
+    Eigen::VectorXf positions = in_left;
+    const BodyMesh with{mesh, &triangles};
+    EXPECT_TRUE(
+        PushOutOfBodyPoints(correspondence, body, plus_x, &with, scratch, positions.data())
+            .ok());
+    return Eigen::Vector3f(positions);
+  };
+  CleanupScratch shared;
+  EXPECT_NEAR(clean(lowered, cube.triangles, shared).x(), -0.5025, 1e-6);
+  CleanupScratch fresh;
+  const Eigen::Vector3f refitted = clean(wider, cube.triangles, shared);
+  EXPECT_EQ(refitted, clean(wider, cube.triangles, fresh));
+  EXPECT_NEAR(refitted.x(), -0.5525, 1e-6);
+  // The same cube with its triangles' corners rotated: another topology, the same surface.
+  core::Triangles rotated = cube.triangles;
+  for (Eigen::Index t = 0; t < rotated.rows(); ++t) {
+    rotated.row(t) << cube.triangles(t, 1), cube.triangles(t, 2), cube.triangles(t, 0);
+  }
+  EXPECT_NEAR(clean(lowered, rotated, shared).x(), -0.5025, 1e-6);
+}
+
+TEST(BodyCorrespondenceTest, DeepPushesRejectABadMesh) {
+  const CubeBody cube = MakeCube();
+  const BodyCorrespondence correspondence = SlidingVertex(cube);
+  Eigen::VectorXf body;
+  BodyPointsOfWeights(correspondence,
+                      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0))),
+                      body);
+  const std::vector<int32_t> plus_x = {0};
+  CleanupScratch scratch;
+  const auto clean = [&](const std::vector<float>& mesh, const core::Triangles* triangles) {
+    Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.2f, 0.0f);
+    const BodyMesh with{mesh, triangles};
+    return PushOutOfBodyPoints(correspondence, body, plus_x, &with, scratch, positions.data())
+        .status();
+  };
+  std::vector<float> mesh = LoweredCubeMesh();
+  EXPECT_TRUE(clean(mesh, &cube.triangles).ok());
+  EXPECT_THAT(clean(mesh, nullptr), StatusIs(absl::StatusCode::kInvalidArgument, "no triangles"));
+  core::Triangles out_of_range = cube.triangles;
+  out_of_range(3, 1) = 8;
+  EXPECT_THAT(clean(mesh, &out_of_range),
+              StatusIs(absl::StatusCode::kInvalidArgument, "triangle 3 corner 1"));
+  mesh[7] = std::numeric_limits<float>::infinity();
+  EXPECT_THAT(clean(mesh, &cube.triangles),
+              StatusIs(absl::StatusCode::kInvalidArgument, "body vertex 2 has a non-finite"));
+  mesh.pop_back();
+  EXPECT_THAT(clean(mesh, &cube.triangles),
+              StatusIs(absl::StatusCode::kInvalidArgument, "not a multiple of 3"));
 }
 
 TEST(BodyCorrespondenceTest, KeepsOnlyTheBodyVerticesItNeeds) {

@@ -20,17 +20,20 @@ absl::StatusOr<int64_t> ClothingFitter::Fit(const Eigen::VectorXf& weights, bool
 }
 
 absl::StatusOr<int64_t> ClothingFitter::FitToBody(const Eigen::VectorXf& weights,
-                                                  std::span<const float> body, bool cleanup,
+                                                  const BodyMesh& body, bool cleanup,
                                                   FitScratch& scratch,
                                                   Eigen::VectorXf& out) const {
   RETURN_IF_ERROR(CheckFitWeights(model_, weights));
+  if (body.triangles == nullptr || body.triangles->rows() == 0) {
+    return absl::InvalidArgumentError("the body mesh has no triangles");
+  }
   CleanupScratch& c = scratch.cleanup;
-  RETURN_IF_ERROR(GatherBodyPoints(correspondence_, body, c.own_body));
+  RETURN_IF_ERROR(GatherBodyPoints(correspondence_, body.positions, c.own_body));
   FitClothing(model_, weights, scratch.features, out);
   BodyPointsOfWeights(correspondence_, weights, c.body);
   FollowBody(correspondence_, c.body, c.own_body, c, out.data());
-  return cleanup ? PushOutOfBodyPoints(correspondence_, c.own_body, c.anchor_rows, c, out.data())
-                 : 0;
+  if (!cleanup) return 0;
+  return PushOutOfBodyPoints(correspondence_, c.own_body, c.anchor_rows, &body, c, out.data());
 }
 
 }  // namespace fitbase::clothing

@@ -1,8 +1,6 @@
 #ifndef FITBASE_CLOTHING_CLOTHING_FITTER_H_
 #define FITBASE_CLOTHING_CLOTHING_FITTER_H_
 
-#include <span>
-
 #include "Eigen/Core"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
@@ -31,11 +29,12 @@ class ClothingFitter {
   absl::StatusOr<int64_t> Fit(const Eigen::VectorXf& weights, bool cleanup, FitScratch& scratch,
                               Eigen::VectorXf& out) const;
 
-  // As Fit, for the customer's own mesh instead of the body of the weights: body, 3B floats
-  // (m), xyz interleaved, the avatar topology, the mesh `weights` were projected from. The
-  // fitted garment follows what the projection left out of the body (FollowBody), and the
-  // clean-up clears `body`. InvalidArgument as GatherBodyPoints.
-  absl::StatusOr<int64_t> FitToBody(const Eigen::VectorXf& weights, std::span<const float> body,
+  // As Fit, for the customer's own mesh instead of the body of the weights: body, in the
+  // avatar topology, the mesh `weights` were projected from. The fitted garment follows what
+  // the projection left out of the body (FollowBody), and the clean-up clears `body`, asking
+  // the mesh itself about the deep pushes (PushOutOfBodyPoints). InvalidArgument as
+  // GatherBodyPoints and PushOutOfBodyPoints, and for a mesh without triangles.
+  absl::StatusOr<int64_t> FitToBody(const Eigen::VectorXf& weights, const BodyMesh& body,
                                     bool cleanup, FitScratch& scratch,
                                     Eigen::VectorXf& out) const;
 

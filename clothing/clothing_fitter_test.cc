@@ -3,6 +3,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/mesh.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -75,6 +76,12 @@ std::vector<float> Triangle(float dx, float dy) {
   return {dx, dy, 0, dx, dy, 1, 1 + dx, dy, 0};
 }
 
+// Its topology, counter-clockwise seen from +y.
+const core::Triangles& OneTriangle() {
+  static const core::Triangles triangles = core::Triangles{{0, 1, 2}};
+  return triangles;
+}
+
 TEST(ClothingFitterTest, FitToBodyFollowsTheMeshAlongItsNormalOnly) {
   OneVertex s = MakeOneVertex();
   const ClothingFitter fitter = *ClothingFitter::Create(s.model, s.correspondence);
@@ -84,10 +91,12 @@ TEST(ClothingFitterTest, FitToBodyFollowsTheMeshAlongItsNormalOnly) {
   const Eigen::VectorXf weights = Eigen::Vector2f(0.0f, 0.01f);  // 11 mm above y = 0.
   ASSERT_TRUE(fitter.Fit(weights, true, scratch, fitted).ok());
   // The mesh is the body of the weights: the same garment.
-  ASSERT_TRUE(fitter.FitToBody(weights, Triangle(0, 0), true, scratch, out).ok());
+  ASSERT_TRUE(fitter.FitToBody(weights, {Triangle(0, 0), &OneTriangle()}, true, scratch, out).ok());
   EXPECT_EQ(out, fitted);
   // 4 mm out along the normal and 1 cm along the skin: only the 4 mm are carried.
-  ASSERT_TRUE(fitter.FitToBody(weights, Triangle(0.01f, 0.004f), true, scratch, out).ok());
+  ASSERT_TRUE(fitter.FitToBody(weights, {Triangle(0.01f, 0.004f), &OneTriangle()}, true, scratch,
+                                  out)
+                  .ok());
   EXPECT_NEAR(out(0), fitted(0), 1e-7);
   EXPECT_NEAR(out(1), 0.015f, 1e-6);
   EXPECT_NEAR(out(2), fitted(2), 1e-7);
@@ -102,9 +111,10 @@ TEST(ClothingFitterTest, FitToBodyClearsTheMeshNotTheBodyOfTheWeights) {
   const Eigen::VectorXf weights = Eigen::Vector2f(0.0f, -0.0005f);
   // The mesh 1 cm lower: the garment follows it down and is pushed out to 2.5 mm above it,
   // still 7.5 mm under the body of the weights.
-  EXPECT_EQ(*fitter.FitToBody(weights, Triangle(0, -0.01f), true, scratch, out), 1);
+  const std::vector<float> lower = Triangle(0, -0.01f);
+  EXPECT_EQ(*fitter.FitToBody(weights, {lower, &OneTriangle()}, true, scratch, out), 1);
   EXPECT_NEAR(out(1), -0.0075f, 1e-6);
-  EXPECT_EQ(*fitter.FitToBody(weights, Triangle(0, -0.01f), false, scratch, out), 0);
+  EXPECT_EQ(*fitter.FitToBody(weights, {lower, &OneTriangle()}, false, scratch, out), 0);
   EXPECT_NEAR(out(1), -0.0095f, 1e-6);
 }
 
@@ -116,17 +126,24 @@ TEST(ClothingFitterTest, FitToBodyRejectsABadMesh) {
   const Eigen::VectorXf weights = Eigen::Vector2f::Zero();
   std::vector<float> body = Triangle(0, 0);
   body.resize(6);
-  EXPECT_THAT(fitter.FitToBody(weights, body, true, scratch, out),
+  EXPECT_THAT(fitter.FitToBody(weights, {body, &OneTriangle()}, true, scratch, out),
               StatusIs(absl::StatusCode::kInvalidArgument, "the body has 2 vertices"));
   body.push_back(0);
-  EXPECT_THAT(fitter.FitToBody(weights, body, true, scratch, out),
+  EXPECT_THAT(fitter.FitToBody(weights, {body, &OneTriangle()}, true, scratch, out),
               StatusIs(absl::StatusCode::kInvalidArgument, "not a multiple of 3"));
   body = Triangle(0, 0);
   body[4] = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_THAT(fitter.FitToBody(weights, body, true, scratch, out),
+  EXPECT_THAT(fitter.FitToBody(weights, {body, &OneTriangle()}, true, scratch, out),
               StatusIs(absl::StatusCode::kInvalidArgument, "vertex 1 has a non-finite"));
-  EXPECT_THAT(fitter.FitToBody(Eigen::VectorXf::Zero(5), Triangle(0, 0), true, scratch, out),
+  const std::vector<float> good = Triangle(0, 0);
+  EXPECT_THAT(fitter.FitToBody(Eigen::VectorXf::Zero(5), {good, &OneTriangle()}, true, scratch,
+                               out),
               StatusIs(absl::StatusCode::kInvalidArgument, "got 5 avatar weights"));
+  EXPECT_THAT(fitter.FitToBody(weights, {good, nullptr}, true, scratch, out),
+              StatusIs(absl::StatusCode::kInvalidArgument, "no triangles"));
+  const core::Triangles none(0, 3);
+  EXPECT_THAT(fitter.FitToBody(weights, {good, &none}, true, scratch, out),
+              StatusIs(absl::StatusCode::kInvalidArgument, "no triangles"));
 }
 
 }  // namespace

@@ -20,7 +20,6 @@
 #include "pipeline/clothing_basis_builder.h"
 #include "pipeline/size_advisor.h"
 #include "pipeline/skin_visibility.h"
-#include "proto/avatar_basis_codec.h"
 #include "proto/clothing_basis_codec.h"
 #include "proto/mesh_codec.h"
 #include "proto/message_file.h"
@@ -327,7 +326,8 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
     Eigen::VectorXf fit;
     const auto fit_one = [&](const Holdout& h) {
       return spec.fit_on_own_body
-                 ? fitter->FitToBody(h.weights, h.body_xyz, row.cleanup, scratch, fit)
+                 ? fitter->FitToBody(h.weights, {h.body_xyz, &body_triangles}, row.cleanup,
+                                     scratch, fit)
                  : fitter->Fit(h.weights, row.cleanup, scratch, fit);
     };
     for (size_t h = 0; h < holdouts.size(); ++h) {
@@ -410,7 +410,6 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
 // the held-out avatars are drawn from (the spec's, else the basis's own).
 struct EvalBasis {
   LoadedAvatarBasis basis;
-  core::Triangles triangles;
   std::string preset_name;
   body::PopulationPreset preset;
 };
@@ -424,10 +423,7 @@ absl::StatusOr<EvalBasis> LoadEvalBasis(const AccuracyEvalSpec& spec) {
         "the avatar basis has no population preset; name the held-out avatars' preset");
   }
   ASSIGN_OR_RETURN(out.preset, body::ParsePopulationPreset(out.preset_name));
-  out.basis = {basis_message, {}};
-  ASSIGN_OR_RETURN(out.basis.pca, proto::PcaBasisFromProto(basis_message));
-  ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis_message.mean()));
-  out.triangles = core::Triangulate(mean.faces);
+  ASSIGN_OR_RETURN(out.basis, AvatarBasisFromMessage(basis_message));
   return out;
 }
 
@@ -440,7 +436,7 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
   ASSIGN_OR_RETURN(EvalBasis loaded, LoadEvalBasis(spec));
   const v1::AvatarBasis& basis_message = *spec.avatar_basis;
   const LoadedAvatarBasis& basis = loaded.basis;
-  const core::Triangles& triangles = loaded.triangles;
+  const core::Triangles& triangles = loaded.basis.triangles;
   const std::string& preset_name = loaded.preset_name;
   const body::PopulationPreset preset = loaded.preset;
 
@@ -546,7 +542,7 @@ absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
   ASSIGN_OR_RETURN(EvalBasis loaded, LoadEvalBasis(spec));
   const v1::AvatarBasis& basis_message = *spec.avatar_basis;
   const LoadedAvatarBasis& basis = loaded.basis;
-  const core::Triangles& triangles = loaded.triangles;
+  const core::Triangles& triangles = loaded.basis.triangles;
   const body::PopulationPreset preset = loaded.preset;
   double avatar_error = 0;
   ASSIGN_OR_RETURN(std::vector<Holdout> holdouts,

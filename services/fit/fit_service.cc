@@ -53,14 +53,20 @@ struct SizeFitted {
   absl::Duration compute;
 };
 
-// own_body: the customer's own mesh (3B floats, m, checked by OwnBody), or empty for the body
-// of the weights.
+// A customer's own mesh, checked (OwnBody), with its avatar basis, whose triangles it is in.
+// Empty positions: none, the body of the weights is fitted.
+struct OwnMesh {
+  std::vector<float> positions;  // 3B floats, m, xyz interleaved.
+  std::shared_ptr<const pipeline::LoadedAvatarBasis> basis;
+};
+
+// own_body: the customer's own mesh, or none for the body of the weights.
 absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view tenant,
                                         const v1::AvatarWeights& weights,
                                         const ServedGarment& garment,
                                         absl::string_view garment_id, absl::string_view size,
                                         absl::string_view method_name, bool cleanup,
-                                        std::span<const float> own_body,
+                                        const OwnMesh& own_body,
                                         Eigen::VectorXf& positions) {
   SizeFitted out;
   if (!method_name.empty()) RETURN_IF_ERROR(clothing::ParseClothingMethod(method_name).status());
@@ -94,9 +100,12 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
   thread_local clothing::FitScratch scratch;
   const absl::Time start = absl::Now();
   const clothing::ClothingFitter& fitter = out.clothing->fitter;
-  ASSIGN_OR_RETURN(out.pushed, own_body.empty()
-                                   ? fitter.Fit(w, cleanup, scratch, positions)
-                                   : fitter.FitToBody(w, own_body, cleanup, scratch, positions));
+  ASSIGN_OR_RETURN(
+      out.pushed,
+      own_body.positions.empty()
+          ? fitter.Fit(w, cleanup, scratch, positions)
+          : fitter.FitToBody(w, {own_body.positions, &own_body.basis->triangles}, cleanup,
+                             scratch, positions));
   out.compute = absl::Now() - start;
   return out;
 }
@@ -108,7 +117,7 @@ absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view 
                                          absl::string_view garment_id, absl::string_view size,
                                          absl::string_view method_name,
                                          v1::PositionsEncoding encoding, bool with_metrics,
-                                         bool cleanup, std::span<const float> own_body) {
+                                         bool cleanup, const OwnMesh& own_body) {
   thread_local Eigen::VectorXf positions;
   ASSIGN_OR_RETURN(SizeFitted one, FitPositions(catalog, tenant, weights, garment, garment_id,
                                                 size, method_name, cleanup, own_body,
@@ -182,13 +191,12 @@ absl::StatusOr<v1::Avatar> BodyOfWeights(const pipeline::LoadedAvatarBasis& basi
 // held-out bodies and about 8 mm at worst.
 constexpr double kMaxOwnBodyOffset = 0.010;
 
-// The customer's own mesh of a fit request, as 3B floats (m), checked: a valid avatar, and
-// within kMaxOwnBodyOffset of the body of `weights` on the garment's avatar basis. Empty
-// without one.
-absl::StatusOr<std::vector<float>> OwnBody(FitCatalog& catalog, const ServedGarment& garment,
-                                           const v1::AvatarWeights& weights, bool has_body,
-                                           const v1::Avatar& body) {
-  if (!has_body) return std::vector<float>();
+// The customer's own mesh of a fit request, checked: a valid avatar, and within
+// kMaxOwnBodyOffset of the body of `weights` on the garment's avatar basis. None without one.
+absl::StatusOr<OwnMesh> OwnBody(FitCatalog& catalog, const ServedGarment& garment,
+                                const v1::AvatarWeights& weights, bool has_body,
+                                const v1::Avatar& body) {
+  if (!has_body) return OwnMesh();
   ASSIGN_OR_RETURN(const core::Positions own, proto::AvatarPositions(body));
   ASSIGN_OR_RETURN(std::shared_ptr<const pipeline::LoadedAvatarBasis> basis,
                    catalog.AvatarBasis(garment.avatar_basis_id));
@@ -207,7 +215,7 @@ absl::StatusOr<std::vector<float>> OwnBody(FitCatalog& catalog, const ServedGarm
         "(ProjectAvatar)",
         1000 * offset, 1000 * kMaxOwnBodyOffset));
   }
-  return core::InterleavedFloats(own);
+  return OwnMesh{core::InterleavedFloats(own), std::move(basis)};
 }
 
 // How far beyond its example drapes a clothing basis is still trusted, as a multiple of their
@@ -315,7 +323,7 @@ grpc::ServerUnaryReactor* FitService::FitGarment(grpc::CallbackServerContext* co
     ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
                      GarmentForWeights(*catalog_, principal.tenant, request->garment_id(),
                                        request->weights()));
-    ASSIGN_OR_RETURN(const std::vector<float> own_body,
+    ASSIGN_OR_RETURN(const OwnMesh own_body,
                      OwnBody(*catalog_, *garment, request->weights(), request->has_body(),
                              request->body()));
     RETURN_IF_ERROR(CheckAlive(*context));
@@ -340,7 +348,7 @@ grpc::ServerUnaryReactor* FitService::FitOutfit(grpc::CallbackServerContext* con
           options_.max_outfit_items));
     }
     // Decoded and checked once for the outfit: every item's garment is on the weights' basis.
-    std::optional<std::vector<float>> own_body;
+    std::optional<OwnMesh> own_body;
     for (const v1::OutfitItem& item : request->items()) {
       ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
                        GarmentForWeights(*catalog_, principal.tenant, item.garment_id(),
@@ -484,7 +492,7 @@ grpc::ServerUnaryReactor* FitService::AdviseSize(grpc::CallbackServerContext* co
       absl::StatusOr<SizeFitted> fitted =
           FitPositions(*catalog_, principal.tenant, request->weights(), *garment,
                        request->garment_id(), advice.size_names[size], request->method(),
-                       /*cleanup=*/true, /*own_body=*/{}, flat);
+                       /*cleanup=*/true, /*own_body=*/OwnMesh(), flat);
       // Every size: only those with a published clothing basis.
       if (request->sizes().empty() && absl::IsNotFound(fitted.status())) continue;
       if (!fitted.ok()) return fitted.status();
