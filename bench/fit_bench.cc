@@ -22,9 +22,13 @@
 //     the clean-up, the clean-up without guards, without smoothing, and fitted to a mesh;
 //     BM_FitStoredBasis/5 (with --avatar=PATH.obj --weights=PATH.json, the avatar's projection
 //     from `fitbase basis project --json`): fitted to that customer's own mesh, counter `deep`
-//     the pushes checked against the mesh per fit (each such fit refits the mesh's tree).
+//     the pushes checked against the mesh per fit (each such fit refits the mesh's tree);
+//     BM_FitStoredBasis/6 (with --weights=PATH.json --basis=PATH.fbb, the avatar basis they are
+//     on): fitted from the weights alone, the body of the weights made as a mesh for the deep
+//     pushes (counter `deep` as above).
 // Usage: fitbase_fit_bench [--benchmark_filter=...] [--clothing=PATH.fbc]
-//        [--avatar=PATH.obj --weights=PATH.json]
+//        [--avatar=PATH.obj --weights=PATH.json] [--basis=PATH.fbb]
+#include <optional>
 #include <random>
 
 #include "benchmark/benchmark.h"
@@ -35,12 +39,15 @@
 #include "core/matrix_vector.h"
 #include "core/pca_basis.h"
 #include "fitbase/v1/avatar.pb.h"
+#include "fitbase/v1/avatar_basis.pb.h"
 #include "fitbase/v1/clothing_basis.pb.h"
 #include "core/file_util.h"
 #include "core/mesh.h"
 #include "core/obj_io.h"
+#include "proto/avatar_basis_codec.h"
 #include "proto/clothing_basis_codec.h"
 #include "proto/json_codec.h"
+#include "proto/mesh_codec.h"
 #include "proto/message_file.h"
 
 namespace fitbase {
@@ -264,7 +271,8 @@ void BM_FitCleanup(benchmark::State& state) {
       }
     }
     for (auto _ : state) {
-      moved = *fitter.FitToBody(w, {mesh, &StripTopology()}, true, scratch, out);
+      moved = *fitter.FitToBody(w, {.positions = mesh, .triangles = &StripTopology()}, true,
+                                scratch, out);
       benchmark::DoNotOptimize(out.data());
     }
   }
@@ -276,6 +284,19 @@ void BM_FitCleanup(benchmark::State& state) {
 std::string g_clothing_path;
 std::string g_avatar_path;
 std::string g_weights_path;
+std::string g_basis_path;
+
+// --weights as floats, if it has the basis's count.
+std::optional<Eigen::VectorXf> ReadWeights(int components) {
+  absl::StatusOr<std::string> json = core::ReadFileToString(g_weights_path);
+  v1::AvatarWeights weights;
+  if (!json.ok() || !proto::ParseJson(*json, &weights).ok() ||
+      weights.weights_size() != components) {
+    return std::nullopt;
+  }
+  return Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
+      .cast<float>();
+}
 
 // Arg 0: the model alone; 1: with the clean-up; 2: the clean-up without its triangle guards;
 // 3: the clean-up without smoothing; 4: with the clean-up, fitted to a mesh given with the
@@ -309,21 +330,37 @@ void BM_FitStoredBasis(benchmark::State& state) {
   Eigen::VectorXf out;
   if (state.range(0) == 5) {
     absl::StatusOr<core::Mesh> avatar = core::ReadObj(g_avatar_path);
-    absl::StatusOr<std::string> json = core::ReadFileToString(g_weights_path);
-    v1::AvatarWeights weights;
-    if (!avatar.ok() || !json.ok() || !proto::ParseJson(*json, &weights).ok() ||
-        weights.weights_size() != loaded->model().component_count) {
+    const std::optional<Eigen::VectorXf> own_weights =
+        ReadWeights(loaded->model().component_count);
+    if (!avatar.ok() || !own_weights) {
       state.SkipWithError("cannot read --avatar and --weights for this basis");
       return;
     }
-    const Eigen::VectorXf own_weights =
-        Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
-            .cast<float>();
     const std::vector<float> mesh = core::InterleavedFloats(avatar->positions);
     const core::Triangles triangles = core::Triangulate(avatar->faces);
     for (auto _ : state) {
+      benchmark::DoNotOptimize(fitter.FitToBody(
+          *own_weights, {.positions = mesh, .triangles = &triangles}, true, scratch, out));
+    }
+    state.counters["deep"] = static_cast<double>(scratch.cleanup.deep_checks);
+  } else if (state.range(0) == 6) {
+    v1::AvatarBasis basis_message;
+    const std::optional<Eigen::VectorXf> own_weights =
+        ReadWeights(loaded->model().component_count);
+    if (!proto::ReadMessageFile(g_basis_path, &basis_message).ok() || !own_weights) {
+      state.SkipWithError("cannot read --basis and --weights for this basis");
+      return;
+    }
+    absl::StatusOr<core::PcaBasis> basis = proto::PcaBasisFromProto(basis_message);
+    absl::StatusOr<core::Mesh> mean = proto::MeshFromProto(basis_message.mean());
+    if (!basis.ok() || !mean.ok()) {
+      state.SkipWithError("not a usable avatar basis");
+      return;
+    }
+    const core::Triangles triangles = core::Triangulate(mean->faces);
+    for (auto _ : state) {
       benchmark::DoNotOptimize(
-          fitter.FitToBody(own_weights, {mesh, &triangles}, true, scratch, out));
+          fitter.Fit(*own_weights, true, scratch, out, {&*basis, &triangles}));
     }
     state.counters["deep"] = static_cast<double>(scratch.cleanup.deep_checks);
   } else if (state.range(0) == 4) {
@@ -338,8 +375,8 @@ void BM_FitStoredBasis(benchmark::State& state) {
       }
     }
     for (auto _ : state) {
-      benchmark::DoNotOptimize(
-          fitter.FitToBody(w, {mesh, &StripTopology()}, true, scratch, out));
+      benchmark::DoNotOptimize(fitter.FitToBody(
+          w, {.positions = mesh, .triangles = &StripTopology()}, true, scratch, out));
     }
   } else {
     for (auto _ : state) {
@@ -418,12 +455,15 @@ int main(int argc, char** argv) {
     if (arg.rfind("--clothing=", 0) == 0) fitbase::g_clothing_path = arg.substr(11);
     if (arg.rfind("--avatar=", 0) == 0) fitbase::g_avatar_path = arg.substr(9);
     if (arg.rfind("--weights=", 0) == 0) fitbase::g_weights_path = arg.substr(10);
+    if (arg.rfind("--basis=", 0) == 0) fitbase::g_basis_path = arg.substr(8);
   }
   if (!fitbase::g_clothing_path.empty()) {
-    const bool customer = !fitbase::g_avatar_path.empty() && !fitbase::g_weights_path.empty();
-    benchmark::RegisterBenchmark("BM_FitStoredBasis", fitbase::BM_FitStoredBasis)
-        ->DenseRange(0, customer ? 5 : 4)
-        ->Unit(benchmark::kMicrosecond);
+    const bool weights = !fitbase::g_weights_path.empty();
+    auto* stored = benchmark::RegisterBenchmark("BM_FitStoredBasis", fitbase::BM_FitStoredBasis)
+                       ->DenseRange(0, 4)
+                       ->Unit(benchmark::kMicrosecond);
+    if (weights && !fitbase::g_avatar_path.empty()) stored->Arg(5);
+    if (weights && !fitbase::g_basis_path.empty()) stored->Arg(6);
   }
   fitbase::LimitCapture reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);

@@ -169,11 +169,16 @@ absl::Status RunFit(const FitFlags& flags) {
   clothing::FitScratch scratch;
   Eigen::VectorXf positions;
   const auto start = std::chrono::steady_clock::now();
+  // From the weights alone, the clean-up asks the body of the weights about its deep pushes
+  // when --basis is the basis they are on.
+  const clothing::AvatarMesh avatar = basis.has_value() && basis->message.id() == weights.basis_id()
+                                          ? clothing::AvatarMesh{&basis->pca, &basis->triangles}
+                                          : clothing::AvatarMesh();
   ASSIGN_OR_RETURN(int64_t moved,
                    own_body.empty()
-                       ? fitter.Fit(w, !flags.no_cleanup, scratch, positions)
-                       : fitter.FitToBody(w, {own_body, &own_triangles}, !flags.no_cleanup,
-                                          scratch, positions));
+                       ? fitter.Fit(w, !flags.no_cleanup, scratch, positions, avatar)
+                       : fitter.FitToBody(w, {.positions = own_body, .triangles = &own_triangles},
+                                          !flags.no_cleanup, scratch, positions));
   const double micros =
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
   mesh.mesh.positions =

@@ -209,23 +209,39 @@ absl::StatusOr<const core::TriangleBvh*> CurrentBodyTree(const BodyMesh& mesh,
   if (mesh.triangles == nullptr || mesh.triangles->rows() == 0) {
     return absl::InvalidArgumentError("the body mesh has no triangles");
   }
-  if (mesh.positions.size() % 3 != 0) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "the body mesh has ", mesh.positions.size(), " coordinates, not a multiple of 3"));
-  }
-  const auto vertex_count = static_cast<Eigen::Index>(mesh.positions.size() / 3);
   core::Positions& positions = scratch.body_tree_positions;
-  positions.resize(vertex_count, 3);
-  for (Eigen::Index i = 0; i < vertex_count; ++i) {
-    for (int c = 0; c < 3; ++c) {
-      const float x = mesh.positions[static_cast<size_t>(3 * i + c)];
-      if (!std::isfinite(x)) {
-        return absl::InvalidArgumentError(
-            absl::StrCat("body vertex ", i, " has a non-finite coordinate"));
+  if (mesh.positions.empty() && mesh.avatar != nullptr && mesh.weights != nullptr) {
+    const core::PcaBasis& avatar = *mesh.avatar;
+    if (avatar.mean.size() % 3 != 0 || avatar.components.rows() != avatar.mean.size() ||
+        avatar.components.cols() != mesh.weights->size()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "the avatar basis (mean ", avatar.mean.size(), ", components ", avatar.components.rows(),
+          " x ", avatar.components.cols(), ") does not take ", mesh.weights->size(), " weights"));
+    }
+    positions.resize(avatar.mean.size() / 3, 3);
+    Eigen::Map<Eigen::VectorXd>(positions.data(), positions.size()) =
+        avatar.mean + avatar.components * mesh.weights->cast<double>();
+    if (!positions.allFinite()) {
+      return absl::InvalidArgumentError("the body of the weights has a non-finite coordinate");
+    }
+  } else {
+    if (mesh.positions.size() % 3 != 0) {
+      return absl::InvalidArgumentError(absl::StrCat("the body mesh has ", mesh.positions.size(),
+                                                     " coordinates, not a multiple of 3"));
+    }
+    positions.resize(static_cast<Eigen::Index>(mesh.positions.size() / 3), 3);
+    for (Eigen::Index i = 0; i < positions.rows(); ++i) {
+      for (int c = 0; c < 3; ++c) {
+        const float x = mesh.positions[static_cast<size_t>(3 * i + c)];
+        if (!std::isfinite(x)) {
+          return absl::InvalidArgumentError(
+              absl::StrCat("body vertex ", i, " has a non-finite coordinate"));
+        }
+        positions(i, c) = x;
       }
-      positions(i, c) = x;
     }
   }
+  const Eigen::Index vertex_count = positions.rows();
   const core::Triangles& triangles = *mesh.triangles;
   if (tree && tree->positions().rows() == vertex_count &&
       tree->triangles().rows() == triangles.rows() &&

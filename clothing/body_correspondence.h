@@ -114,9 +114,13 @@ struct ClearanceRequest {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-// A body given as a whole mesh, the customer's own (ClothingFitter::FitToBody).
+// A body as a whole mesh, for the clean-up's deep pushes: the customer's own
+// (ClothingFitter::FitToBody), or the body of the weights on the avatar basis, made only when a
+// deep push needs it (ClothingFitter::Fit given the basis).
 struct BodyMesh {
-  std::span<const float> positions;            // 3B floats, m, xyz interleaved.
+  std::span<const float> positions;            // 3B floats, m, xyz interleaved; empty: the
+  const core::PcaBasis* avatar = nullptr;      // body of `weights` on `avatar` (mean 3B,
+  const Eigen::VectorXf* weights = nullptr;    // components 3B x N; weights N, m).
   const core::Triangles* triangles = nullptr;  // T x 3 into the B vertices, counter-clockwise
                                                // from outside: the avatar topology.
 };
@@ -211,7 +215,8 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
 //   - Else (inside, or within `offset` of a surface on the anchor's side) the plane's push.
 // The mesh's tree is built (or refitted) once per clean-up that has such a vertex, none
 // otherwise. InvalidArgument for a mesh whose count is not 3B, whose triangles are missing or
-// index outside it, or with a non-finite coordinate.
+// index outside it, with a non-finite coordinate, or made from a basis whose sizes disagree
+// with the weights.
 absl::StatusOr<int64_t> PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
                                             const Eigen::VectorXf& body,
                                             std::span<const int32_t> anchor_rows,

@@ -169,7 +169,7 @@ TEST(BodyCorrespondenceTest, DeepPushesAskTheBodyMesh) {
                       Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0))),
                       body);
   const std::vector<float> mesh = LoweredCubeMesh();
-  const BodyMesh cube_mesh{mesh, &cube.triangles};
+  const BodyMesh cube_mesh{.positions = mesh, .triangles = &cube.triangles};
   const std::vector<int32_t> plus_x = {0};
   CleanupScratch scratch;
   const auto clean = [&](Eigen::Vector3f at, const BodyMesh* with) {
@@ -221,7 +221,7 @@ TEST(BodyCorrespondenceTest, DeepPushesRefitTheTreeToEachMesh) {
   const auto clean = [&](const std::vector<float>& mesh, const core::Triangles& triangles,
                          CleanupScratch& scratch) {
     Eigen::VectorXf positions = in_left;
-    const BodyMesh with{mesh, &triangles};
+    const BodyMesh with{.positions = mesh, .triangles = &triangles};
     EXPECT_TRUE(
         PushOutOfBodyPoints(correspondence, body, plus_x, &with, scratch, positions.data())
             .ok());
@@ -241,6 +241,39 @@ TEST(BodyCorrespondenceTest, DeepPushesRefitTheTreeToEachMesh) {
   EXPECT_NEAR(clean(lowered, rotated, shared).x(), -0.5025, 1e-6);
 }
 
+// Without the customer's mesh, the body of the weights is made from the avatar basis when a
+// deep push needs it, and answers as that body given as a mesh does.
+TEST(BodyCorrespondenceTest, DeepPushesMakeTheBodyOfTheWeights) {
+  const CubeBody cube = MakeCube();
+  const BodyCorrespondence correspondence = SlidingVertex(cube);
+  const Eigen::VectorXf lowered =
+      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0)));
+  Eigen::VectorXf body;
+  BodyPointsOfWeights(correspondence, lowered, body);
+  const std::vector<int32_t> plus_x = {0};
+  const std::vector<float> mesh = LoweredCubeMesh();
+  const BodyMesh given{.positions = mesh, .triangles = &cube.triangles};
+  const BodyMesh made{.avatar = &cube.basis, .weights = &lowered, .triangles = &cube.triangles};
+  for (const float x : {-0.6f, -0.49f, 0.3f}) {
+    Eigen::VectorXf from_given = Eigen::Vector3f(x, x < 0 ? -0.4f : 0.2f, 0.0f);
+    Eigen::VectorXf from_made = from_given;
+    CleanupScratch scratch;
+    ASSERT_TRUE(
+        PushOutOfBodyPoints(correspondence, body, plus_x, &given, scratch, from_given.data())
+            .ok());
+    ASSERT_TRUE(
+        PushOutOfBodyPoints(correspondence, body, plus_x, &made, scratch, from_made.data()).ok());
+    EXPECT_TRUE(from_made.isApprox(from_given, 1e-6f)) << x;
+  }
+  const Eigen::VectorXf two = Eigen::VectorXf::Zero(2);
+  const BodyMesh mismatched{.avatar = &cube.basis, .weights = &two, .triangles = &cube.triangles};
+  Eigen::VectorXf positions = Eigen::Vector3f(-0.49f, -0.4f, 0.0f);
+  CleanupScratch scratch;
+  EXPECT_THAT(
+      PushOutOfBodyPoints(correspondence, body, plus_x, &mismatched, scratch, positions.data()),
+      StatusIs(absl::StatusCode::kInvalidArgument, "does not take 2 weights"));
+}
+
 TEST(BodyCorrespondenceTest, DeepPushesRejectABadMesh) {
   const CubeBody cube = MakeCube();
   const BodyCorrespondence correspondence = SlidingVertex(cube);
@@ -252,7 +285,7 @@ TEST(BodyCorrespondenceTest, DeepPushesRejectABadMesh) {
   CleanupScratch scratch;
   const auto clean = [&](const std::vector<float>& mesh, const core::Triangles* triangles) {
     Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.2f, 0.0f);
-    const BodyMesh with{mesh, triangles};
+    const BodyMesh with{.positions = mesh, .triangles = triangles};
     return PushOutOfBodyPoints(correspondence, body, plus_x, &with, scratch, positions.data())
         .status();
   };

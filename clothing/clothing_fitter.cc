@@ -1,5 +1,6 @@
 #include "clothing/clothing_fitter.h"
 
+#include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
 
 namespace fitbase::clothing {
@@ -13,10 +14,28 @@ absl::StatusOr<ClothingFitter> ClothingFitter::Create(ClothingModel model,
 }
 
 absl::StatusOr<int64_t> ClothingFitter::Fit(const Eigen::VectorXf& weights, bool cleanup,
-                                            FitScratch& scratch, Eigen::VectorXf& out) const {
+                                            FitScratch& scratch, Eigen::VectorXf& out,
+                                            const AvatarMesh& avatar) const {
   RETURN_IF_ERROR(CheckFitWeights(model_, weights));
+  if (avatar.basis != nullptr) {
+    if (avatar.triangles == nullptr || avatar.triangles->rows() == 0) {
+      return absl::InvalidArgumentError("the avatar basis comes without triangles");
+    }
+    if (avatar.basis->components.cols() != weights.size()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("the avatar basis has ", avatar.basis->components.cols(),
+                       " components; the fit has ", weights.size(), " weights"));
+    }
+  }
   FitClothing(model_, weights, scratch.features, out);
-  return cleanup ? PushOutOfBody(correspondence_, weights, scratch.cleanup, out.data()) : 0;
+  if (!cleanup) return 0;
+  if (avatar.basis == nullptr) {
+    return PushOutOfBody(correspondence_, weights, scratch.cleanup, out.data());
+  }
+  CleanupScratch& c = scratch.cleanup;
+  BodyPointsOfWeights(correspondence_, weights, c.body);
+  const BodyMesh of_weights{{}, avatar.basis, &weights, avatar.triangles};
+  return PushOutOfBodyPoints(correspondence_, c.body, {}, &of_weights, c, out.data());
 }
 
 absl::StatusOr<int64_t> ClothingFitter::FitToBody(const Eigen::VectorXf& weights,

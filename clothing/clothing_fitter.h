@@ -6,6 +6,8 @@
 #include "absl/status/statusor.h"
 #include "clothing/body_correspondence.h"
 #include "clothing/clothing_model.h"
+#include "core/mesh.h"
+#include "core/pca_basis.h"
 
 namespace fitbase::clothing {
 
@@ -13,6 +15,14 @@ namespace fitbase::clothing {
 struct FitScratch {
   Eigen::VectorXf features;
   CleanupScratch cleanup;
+};
+
+// The avatar basis a fit's weights are on, with its topology (the mean avatar's faces as
+// triangles). Given to Fit, it lets the clean-up ask the body of the weights, made as a mesh
+// only when a deep push needs it, what FitToBody asks the customer's own mesh.
+struct AvatarMesh {
+  const core::PcaBasis* basis = nullptr;
+  const core::Triangles* triangles = nullptr;
 };
 
 // The online fit of one garment size: the clothing model evaluated at a customer's avatar
@@ -25,9 +35,11 @@ class ClothingFitter {
                                                BodyCorrespondence correspondence);
 
   // weights: N (m), checked; out: 3V floats (m), xyz interleaved, the template's vertex order.
+  // avatar: none (the clean-up's deep pushes are the anchors' alone), or the basis the weights
+  // are on, N components, with its triangles (InvalidArgument if it has none or another N).
   // Returns how many vertices the clean-up moved.
   absl::StatusOr<int64_t> Fit(const Eigen::VectorXf& weights, bool cleanup, FitScratch& scratch,
-                              Eigen::VectorXf& out) const;
+                              Eigen::VectorXf& out, const AvatarMesh& avatar = {}) const;
 
   // As Fit, for the customer's own mesh instead of the body of the weights: body, in the
   // avatar topology, the mesh `weights` were projected from. The fitted garment follows what

@@ -47,6 +47,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     strip.row(t) << static_cast<int32_t>(t), static_cast<int32_t>(t + 1),
         static_cast<int32_t>(t + 2);
   }
-  (void)fitter->FitToBody(weights, {mesh, &strip}, /*cleanup=*/true, scratch, positions);
+  (void)fitter->FitToBody(weights, {.positions = mesh, .triangles = &strip}, /*cleanup=*/true,
+                          scratch, positions);
   return 0;
 }

@@ -279,9 +279,9 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
                              const std::vector<v1::DrapeResult>& examples,
                              const std::vector<v1::DrapeResult>& truths,
                              const std::vector<v1::DrapeResult>& on_weights_bodies,
-                             const std::vector<Holdout>& holdouts,
-                             const core::Triangles& body_triangles, std::vector<RowStats>& rows,
-                             v1::GarmentAccuracy& out) {
+                             const std::vector<Holdout>& holdouts, const LoadedAvatarBasis& avatar,
+                             std::vector<RowStats>& rows, v1::GarmentAccuracy& out) {
+  const core::Triangles& body_triangles = avatar.triangles;
   const v1::Garment& garment = *g.spec.garment;
   const int64_t vertex_count = garment.template_mesh().vertex_count();
   ASSIGN_OR_RETURN(const core::Mesh garment_mesh, proto::MeshFromProto(garment.template_mesh()));
@@ -326,9 +326,11 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
     Eigen::VectorXf fit;
     const auto fit_one = [&](const Holdout& h) {
       return spec.fit_on_own_body
-                 ? fitter->FitToBody(h.weights, {h.body_xyz, &body_triangles}, row.cleanup,
-                                     scratch, fit)
-                 : fitter->Fit(h.weights, row.cleanup, scratch, fit);
+                 ? fitter->FitToBody(h.weights,
+                                     {.positions = h.body_xyz, .triangles = &body_triangles},
+                                     row.cleanup, scratch, fit)
+                 : fitter->Fit(h.weights, row.cleanup, scratch, fit,
+                               {&avatar.pca, &body_triangles});
     };
     for (size_t h = 0; h < holdouts.size(); ++h) {
       RETURN_IF_ERROR(fit_one(holdouts[h]).status());
@@ -514,8 +516,7 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
 
     std::vector<RowStats> rows = EmptyRows(spec.methods);
     RETURN_IF_ERROR(
-        EvaluateGarment(spec, g, examples, truths, on_weights_bodies, holdouts, triangles, rows,
-                        *out));
+        EvaluateGarment(spec, g, examples, truths, on_weights_bodies, holdouts, basis, rows, *out));
     for (size_t r = 0; r < rows.size(); ++r) {
       *out->add_methods() = rows[r].Finish(seconds);
       overall[r].errors_mm.insert(overall[r].errors_mm.end(), rows[r].errors_mm.begin(),

@@ -97,15 +97,23 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
                    pipeline::CheckedWeights(
                        weights, out.clothing->fitter.model().component_count, weights.basis_id()));
   const Eigen::VectorXf w = checked.cast<float>();
+  // The clean-up asks the body (the own mesh, else the body of the weights) about its deep
+  // pushes, in the avatar basis's topology.
+  std::shared_ptr<const pipeline::LoadedAvatarBasis> avatar = own_body.basis;
+  if (avatar == nullptr && cleanup) {
+    ASSIGN_OR_RETURN(avatar, catalog.AvatarBasis(garment.avatar_basis_id));
+  }
   thread_local clothing::FitScratch scratch;
   const absl::Time start = absl::Now();
   const clothing::ClothingFitter& fitter = out.clothing->fitter;
   ASSIGN_OR_RETURN(
       out.pushed,
       own_body.positions.empty()
-          ? fitter.Fit(w, cleanup, scratch, positions)
-          : fitter.FitToBody(w, {own_body.positions, &own_body.basis->triangles}, cleanup,
-                             scratch, positions));
+          ? fitter.Fit(w, cleanup, scratch, positions,
+                       avatar == nullptr ? clothing::AvatarMesh()
+                                         : clothing::AvatarMesh{&avatar->pca, &avatar->triangles})
+          : fitter.FitToBody(w, {.positions = own_body.positions, .triangles = &avatar->triangles},
+                             cleanup, scratch, positions));
   out.compute = absl::Now() - start;
   return out;
 }
