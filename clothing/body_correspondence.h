@@ -17,7 +17,8 @@
 namespace fitbase::clothing {
 
 // The collision clean-up of a fast fit, in bounded time per fit (no search, but for the few
-// deep pushes a fit to the customer's own mesh checks against it, PushOutOfBodyPoints):
+// deep pushes checked against the body as a whole mesh when the fit has one,
+// PushOutOfBodyPoints):
 //   - Vertices. Each garment vertex keeps up to K anchors: the body surface points it was
 //     closest to in the example drapes (triangle and barycentric coordinates), with the
 //     triangles' corners as a linear model in the avatar weights. At fit time the customer's
@@ -199,7 +200,7 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
 // BodyPointsOfWeights or GatherBodyPoints). anchor_rows: empty, or V rows of `corners`, the
 // anchor each vertex is cleared against instead of its nearest (FollowBody's: it moved the
 // vertex along that anchor's normal only, so the nearest is found once per fit, not twice).
-// mesh: null, or the whole body the points were gathered from. With it, a vertex more than
+// mesh: null, or the whole body the points come from. With it, a vertex more than
 // kDeepPush behind its anchor's plane is asked of the mesh (its exact closest point, signed):
 //   - At a surface facing away from the anchor's side (normals at an obtuse angle), the plane
 //     lies beyond the body, and its push would cross it: the vertex is cleared against that

@@ -154,6 +154,20 @@ std::vector<float> LoweredCubeMesh() {
   return mesh;
 }
 
+// The sliding vertex's correspondence on the customer lowered by 0.395 m: its body points, and
+// the anchor row on the +x face (row 0) to clear against.
+class DeepPushTest : public ::testing::Test {
+ protected:
+  DeepPushTest() { BodyPointsOfWeights(correspondence_, weights_, body_); }
+
+  const CubeBody cube_ = MakeCube();
+  const BodyCorrespondence correspondence_ = SlidingVertex(cube_);
+  const Eigen::VectorXf weights_ =
+      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0)));
+  Eigen::VectorXf body_;
+  const std::vector<int32_t> plus_x_ = {0};
+};
+
 // Against the anchor on the +x face (row 0), every vertex below lies deep behind the anchor's
 // plane, and without the mesh that plane pushes each out through the +x face. With the mesh,
 // a vertex at the -x face, which looks away from the anchor's side, is cleared against that
@@ -161,21 +175,14 @@ std::vector<float> LoweredCubeMesh() {
 // 1 cm inside it. At the top (normal +y, not at an obtuse angle to +x) the plane's push
 // stands, as without the mesh, for a vertex 1 mm inside; one 9.5 cm above, clear of the body,
 // is pushed kDeepPush along the anchor's normal, no further.
-TEST(BodyCorrespondenceTest, DeepPushesAskTheBodyMesh) {
-  const CubeBody cube = MakeCube();
-  const BodyCorrespondence correspondence = SlidingVertex(cube);
-  Eigen::VectorXf body;
-  BodyPointsOfWeights(correspondence,
-                      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0))),
-                      body);
+TEST_F(DeepPushTest, AsksTheBodyMesh) {
   const std::vector<float> mesh = LoweredCubeMesh();
-  const BodyMesh cube_mesh{.positions = mesh, .triangles = &cube.triangles};
-  const std::vector<int32_t> plus_x = {0};
+  const BodyMesh cube_mesh{.positions = mesh, .triangles = &cube_.triangles};
   CleanupScratch scratch;
   const auto clean = [&](Eigen::Vector3f at, const BodyMesh* with) {
     Eigen::VectorXf positions = at;
     const int64_t moved =
-        *PushOutOfBodyPoints(correspondence, body, plus_x, with, scratch, positions.data());
+        *PushOutOfBodyPoints(correspondence_, body_, plus_x_, with, scratch, positions.data());
     EXPECT_EQ(moved, positions == Eigen::VectorXf(at) ? 0 : 1);
     return Eigen::Vector3f(positions);
   };
@@ -206,14 +213,7 @@ TEST(BodyCorrespondenceTest, DeepPushesAskTheBodyMesh) {
 
 // The tree the scratch keeps is refitted to each mesh: a fit after one on another body answers
 // as a fresh scratch does, and a mesh of another topology gets a tree of its own.
-TEST(BodyCorrespondenceTest, DeepPushesRefitTheTreeToEachMesh) {
-  const CubeBody cube = MakeCube();
-  const BodyCorrespondence correspondence = SlidingVertex(cube);
-  Eigen::VectorXf body;
-  BodyPointsOfWeights(correspondence,
-                      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0))),
-                      body);
-  const std::vector<int32_t> plus_x = {0};
+TEST_F(DeepPushTest, RefitsTheTreeToEachMesh) {
   const std::vector<float> lowered = LoweredCubeMesh();
   std::vector<float> wider = lowered;
   for (size_t i = 0; i < wider.size(); i += 3) wider[i] *= 1.1f;  // The -x face at -0.55.
@@ -223,84 +223,71 @@ TEST(BodyCorrespondenceTest, DeepPushesRefitTheTreeToEachMesh) {
     Eigen::VectorXf positions = in_left;
     const BodyMesh with{.positions = mesh, .triangles = &triangles};
     EXPECT_TRUE(
-        PushOutOfBodyPoints(correspondence, body, plus_x, &with, scratch, positions.data())
+        PushOutOfBodyPoints(correspondence_, body_, plus_x_, &with, scratch, positions.data())
             .ok());
     return Eigen::Vector3f(positions);
   };
   CleanupScratch shared;
-  EXPECT_NEAR(clean(lowered, cube.triangles, shared).x(), -0.5025, 1e-6);
+  EXPECT_NEAR(clean(lowered, cube_.triangles, shared).x(), -0.5025, 1e-6);
   CleanupScratch fresh;
-  const Eigen::Vector3f refitted = clean(wider, cube.triangles, shared);
-  EXPECT_EQ(refitted, clean(wider, cube.triangles, fresh));
+  const Eigen::Vector3f refitted = clean(wider, cube_.triangles, shared);
+  EXPECT_EQ(refitted, clean(wider, cube_.triangles, fresh));
   EXPECT_NEAR(refitted.x(), -0.5525, 1e-6);
   // The same cube with its triangles' corners rotated: another topology, the same surface.
-  core::Triangles rotated = cube.triangles;
+  core::Triangles rotated = cube_.triangles;
   for (Eigen::Index t = 0; t < rotated.rows(); ++t) {
-    rotated.row(t) << cube.triangles(t, 1), cube.triangles(t, 2), cube.triangles(t, 0);
+    rotated.row(t) << cube_.triangles(t, 1), cube_.triangles(t, 2), cube_.triangles(t, 0);
   }
   EXPECT_NEAR(clean(lowered, rotated, shared).x(), -0.5025, 1e-6);
 }
 
 // Without the customer's mesh, the body of the weights is made from the avatar basis when a
 // deep push needs it, and answers as that body given as a mesh does.
-TEST(BodyCorrespondenceTest, DeepPushesMakeTheBodyOfTheWeights) {
-  const CubeBody cube = MakeCube();
-  const BodyCorrespondence correspondence = SlidingVertex(cube);
-  const Eigen::VectorXf lowered =
-      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0)));
-  Eigen::VectorXf body;
-  BodyPointsOfWeights(correspondence, lowered, body);
-  const std::vector<int32_t> plus_x = {0};
+TEST_F(DeepPushTest, MakesTheBodyOfTheWeights) {
   const std::vector<float> mesh = LoweredCubeMesh();
-  const BodyMesh given{.positions = mesh, .triangles = &cube.triangles};
-  const BodyMesh made{.avatar = &cube.basis, .weights = &lowered, .triangles = &cube.triangles};
+  const BodyMesh given{.positions = mesh, .triangles = &cube_.triangles};
+  const BodyMesh made{.avatar = &cube_.basis, .weights = &weights_, .triangles = &cube_.triangles};
   for (const float x : {-0.6f, -0.49f, 0.3f}) {
     Eigen::VectorXf from_given = Eigen::Vector3f(x, x < 0 ? -0.4f : 0.2f, 0.0f);
     Eigen::VectorXf from_made = from_given;
     CleanupScratch scratch;
     ASSERT_TRUE(
-        PushOutOfBodyPoints(correspondence, body, plus_x, &given, scratch, from_given.data())
+        PushOutOfBodyPoints(correspondence_, body_, plus_x_, &given, scratch, from_given.data())
             .ok());
     ASSERT_TRUE(
-        PushOutOfBodyPoints(correspondence, body, plus_x, &made, scratch, from_made.data()).ok());
+        PushOutOfBodyPoints(correspondence_, body_, plus_x_, &made, scratch, from_made.data())
+            .ok());
     EXPECT_TRUE(from_made.isApprox(from_given, 1e-6f)) << x;
   }
   const Eigen::VectorXf two = Eigen::VectorXf::Zero(2);
-  const BodyMesh mismatched{.avatar = &cube.basis, .weights = &two, .triangles = &cube.triangles};
+  const BodyMesh mismatched{.avatar = &cube_.basis, .weights = &two, .triangles = &cube_.triangles};
   Eigen::VectorXf positions = Eigen::Vector3f(-0.49f, -0.4f, 0.0f);
   CleanupScratch scratch;
   EXPECT_THAT(
-      PushOutOfBodyPoints(correspondence, body, plus_x, &mismatched, scratch, positions.data()),
+      PushOutOfBodyPoints(correspondence_, body_, plus_x_, &mismatched, scratch, positions.data()),
       StatusIs(absl::StatusCode::kInvalidArgument, "does not take 2 weights"));
 }
 
-TEST(BodyCorrespondenceTest, DeepPushesRejectABadMesh) {
-  const CubeBody cube = MakeCube();
-  const BodyCorrespondence correspondence = SlidingVertex(cube);
-  Eigen::VectorXf body;
-  BodyPointsOfWeights(correspondence,
-                      Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0))),
-                      body);
-  const std::vector<int32_t> plus_x = {0};
+TEST_F(DeepPushTest, RejectsABadMesh) {
   CleanupScratch scratch;
   const auto clean = [&](const std::vector<float>& mesh, const core::Triangles* triangles) {
     Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.2f, 0.0f);
     const BodyMesh with{.positions = mesh, .triangles = triangles};
-    return PushOutOfBodyPoints(correspondence, body, plus_x, &with, scratch, positions.data())
+    return PushOutOfBodyPoints(correspondence_, body_, plus_x_, &with, scratch, positions.data())
         .status();
   };
   std::vector<float> mesh = LoweredCubeMesh();
-  EXPECT_TRUE(clean(mesh, &cube.triangles).ok());
+  EXPECT_TRUE(clean(mesh, &cube_.triangles).ok());
   EXPECT_THAT(clean(mesh, nullptr), StatusIs(absl::StatusCode::kInvalidArgument, "no triangles"));
-  core::Triangles out_of_range = cube.triangles;
+  core::Triangles out_of_range = cube_.triangles;
   out_of_range(3, 1) = 8;
   EXPECT_THAT(clean(mesh, &out_of_range),
               StatusIs(absl::StatusCode::kInvalidArgument, "triangle 3 corner 1"));
   mesh[7] = std::numeric_limits<float>::infinity();
-  EXPECT_THAT(clean(mesh, &cube.triangles),
+  EXPECT_THAT(clean(mesh, &cube_.triangles),
               StatusIs(absl::StatusCode::kInvalidArgument, "body vertex 2 has a non-finite"));
   mesh.pop_back();
-  EXPECT_THAT(clean(mesh, &cube.triangles),
+  EXPECT_THAT(clean(mesh, &cube_.triangles),
               StatusIs(absl::StatusCode::kInvalidArgument, "not a multiple of 3"));
 }
 
