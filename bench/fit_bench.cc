@@ -39,15 +39,13 @@
 #include "core/matrix_vector.h"
 #include "core/pca_basis.h"
 #include "fitbase/v1/avatar.pb.h"
-#include "fitbase/v1/avatar_basis.pb.h"
 #include "fitbase/v1/clothing_basis.pb.h"
+#include "pipeline/avatar_projection.h"
 #include "core/file_util.h"
 #include "core/mesh.h"
 #include "core/obj_io.h"
-#include "proto/avatar_basis_codec.h"
 #include "proto/clothing_basis_codec.h"
 #include "proto/json_codec.h"
-#include "proto/mesh_codec.h"
 #include "proto/message_file.h"
 
 namespace fitbase {
@@ -344,23 +342,16 @@ void BM_FitStoredBasis(benchmark::State& state) {
     }
     state.counters["deep"] = static_cast<double>(scratch.cleanup.deep_checks);
   } else if (state.range(0) == 6) {
-    v1::AvatarBasis basis_message;
+    absl::StatusOr<pipeline::LoadedAvatarBasis> basis = pipeline::LoadAvatarBasis(g_basis_path);
     const std::optional<Eigen::VectorXf> own_weights =
         ReadWeights(loaded->model().component_count);
-    if (!proto::ReadMessageFile(g_basis_path, &basis_message).ok() || !own_weights) {
+    if (!basis.ok() || !own_weights) {
       state.SkipWithError("cannot read --basis and --weights for this basis");
       return;
     }
-    absl::StatusOr<core::PcaBasis> basis = proto::PcaBasisFromProto(basis_message);
-    absl::StatusOr<core::Mesh> mean = proto::MeshFromProto(basis_message.mean());
-    if (!basis.ok() || !mean.ok()) {
-      state.SkipWithError("not a usable avatar basis");
-      return;
-    }
-    const core::Triangles triangles = core::Triangulate(mean->faces);
     for (auto _ : state) {
       benchmark::DoNotOptimize(
-          fitter.Fit(*own_weights, true, scratch, out, {&*basis, &triangles}));
+          fitter.Fit(*own_weights, true, scratch, out, {&basis->pca, &basis->triangles}));
     }
     state.counters["deep"] = static_cast<double>(scratch.cleanup.deep_checks);
   } else if (state.range(0) == 4) {

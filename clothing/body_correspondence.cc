@@ -614,6 +614,11 @@ absl::StatusOr<int64_t> PushOutOfBodyPoints(const BodyCorrespondence& correspond
     const float length = std::sqrt(area2);
     const F4 normal = cross / length;
     const int32_t i = static_cast<int32_t>(v);
+    const Eigen::Vector4f along_anchor(normal[0], normal[1], normal[2], 0);
+    // Vertex i moved `amount` along `direction` (unit, w = 0).
+    const auto push = [&](const Eigen::Vector4f& direction, float amount) {
+      requests.push_back({{i, i, i}, {1, 0, 0}, direction, amount});
+    };
     if (mesh != nullptr && -scaled > kDeepPush * length) {
       ++scratch.deep_checks;
       ASSIGN_OR_RETURN(const core::TriangleBvh* tree, CurrentBodyTree(*mesh, scratch));
@@ -621,31 +626,23 @@ absl::StatusOr<int64_t> PushOutOfBodyPoints(const BodyCorrespondence& correspond
           Eigen::Vector3d(gv[0], gv[1], gv[2]), std::numeric_limits<double>::infinity());
       if (nearest.found) {
         const bool clear = nearest.signed_distance >= offset;
+        const Eigen::Vector4f out(static_cast<float>(nearest.normal.x()),
+                                  static_cast<float>(nearest.normal.y()),
+                                  static_cast<float>(nearest.normal.z()), 0);
         // A surface facing away from the anchor's side lies between the vertex and the
         // plane: the vertex is cleared against it, not pushed on through the body.
         if (nearest.normal.dot(Eigen::Vector3d(normal[0], normal[1], normal[2])) < 0) {
-          if (clear) continue;
-          const Eigen::Vector3f out = nearest.normal.cast<float>();
-          requests.push_back({{i, i, i},
-                              {1, 0, 0},
-                              Eigen::Vector4f(out.x(), out.y(), out.z(), 0),
-                              static_cast<float>(offset - nearest.signed_distance)});
+          if (!clear) push(out, static_cast<float>(offset - nearest.signed_distance));
           continue;
         }
         // Nothing collides: the plane's push is only the anchor's pull back to its side.
         if (clear) {
-          requests.push_back({{i, i, i},
-                              {1, 0, 0},
-                              Eigen::Vector4f(normal[0], normal[1], normal[2], 0),
-                              static_cast<float>(kDeepPush)});
+          push(along_anchor, static_cast<float>(kDeepPush));
           continue;
         }
       }
     }
-    requests.push_back({{i, i, i},
-                        {1, 0, 0},
-                        Eigen::Vector4f(normal[0], normal[1], normal[2], 0),
-                        offset - scaled / length});
+    push(along_anchor, offset - scaled / length);
   }
   Eigen::VectorXf& garment4 = scratch.garment4;
   const Eigen::Index guard_count = correspondence.guard_triangles.rows();

@@ -71,25 +71,6 @@ TEST(ClothingFitterTest, RejectsMismatchedPartsAndWeights) {
               StatusIs(absl::StatusCode::kInvalidArgument, "got 5 avatar weights"));
 }
 
-TEST(ClothingFitterTest, FitRejectsAnAvatarBasisThatDoesNotTakeTheWeights) {
-  OneVertex s = MakeOneVertex();
-  const ClothingFitter fitter = *ClothingFitter::Create(s.model, s.correspondence);
-  FitScratch scratch;
-  Eigen::VectorXf out;
-  const Eigen::VectorXf weights = Eigen::Vector2f(0.0f, 0.01f);
-  core::PcaBasis basis;
-  basis.mean = Eigen::VectorXd::Zero(9);
-  basis.components = Eigen::MatrixXd::Zero(9, 3);
-  const core::Triangles triangles = core::Triangles{{0, 1, 2}};
-  EXPECT_THAT(fitter.Fit(weights, true, scratch, out, {&basis, &triangles}),
-              StatusIs(absl::StatusCode::kInvalidArgument, "has 3 components"));
-  basis.components = Eigen::MatrixXd::Zero(9, 2);
-  EXPECT_THAT(fitter.Fit(weights, true, scratch, out, {&basis, nullptr}),
-              StatusIs(absl::StatusCode::kInvalidArgument, "without triangles"));
-  EXPECT_EQ(*fitter.Fit(weights, true, scratch, out, {&basis, &triangles}), 0);
-  EXPECT_NEAR(out(1), 0.011f, 1e-7);
-}
-
 // The single body triangle of MakeOneVertex as a 3-vertex avatar mesh (3B floats), moved by
 // (dx, dy, 0).
 std::vector<float> Triangle(float dx, float dy) {
@@ -100,6 +81,24 @@ std::vector<float> Triangle(float dx, float dy) {
 const core::Triangles& OneTriangle() {
   static const core::Triangles triangles = core::Triangles{{0, 1, 2}};
   return triangles;
+}
+
+TEST(ClothingFitterTest, FitRejectsAnAvatarBasisThatDoesNotTakeTheWeights) {
+  OneVertex s = MakeOneVertex();
+  const ClothingFitter fitter = *ClothingFitter::Create(s.model, s.correspondence);
+  FitScratch scratch;
+  Eigen::VectorXf out;
+  const Eigen::VectorXf weights = Eigen::Vector2f(0.0f, 0.01f);
+  core::PcaBasis basis;
+  basis.mean = Eigen::VectorXd::Zero(9);
+  basis.components = Eigen::MatrixXd::Zero(9, 3);
+  EXPECT_THAT(fitter.Fit(weights, true, scratch, out, {&basis, &OneTriangle()}),
+              StatusIs(absl::StatusCode::kInvalidArgument, "has 3 components"));
+  basis.components = Eigen::MatrixXd::Zero(9, 2);
+  EXPECT_THAT(fitter.Fit(weights, true, scratch, out, {&basis, nullptr}),
+              StatusIs(absl::StatusCode::kInvalidArgument, "without triangles"));
+  EXPECT_EQ(*fitter.Fit(weights, true, scratch, out, {&basis, &OneTriangle()}), 0);
+  EXPECT_NEAR(out(1), 0.011f, 1e-7);
 }
 
 TEST(ClothingFitterTest, FitToBodyFollowsTheMeshAlongItsNormalOnly) {
