@@ -22,12 +22,12 @@
 //     the clean-up, the clean-up without guards, without smoothing, and fitted to a mesh;
 //     BM_FitStoredBasis/5 (with --avatar=PATH.obj --weights=PATH.json, the avatar's projection
 //     from `fitbase basis project --json`): fitted to that customer's own mesh, counter `deep`
-//     the pushes checked against the mesh per fit (each such fit refits the mesh's tree);
-//     BM_FitStoredBasis/6 (with --weights=PATH.json --basis=PATH.fbb, the avatar basis they are
-//     on): fitted from the weights alone, the body of the weights made as a mesh for the deep
-//     pushes (counter `deep` as above).
+//     the pushes checked against the body under the garment per fit (each such fit refits
+//     that region's tree, of `body_triangles` triangles); BM_FitStoredBasis/6 (with --weights):
+//     fitted from those weights alone, the deep pushes checked against the body of the weights
+//     (counter `deep` too).
 // Usage: fitbase_fit_bench [--benchmark_filter=...] [--clothing=PATH.fbc]
-//        [--avatar=PATH.obj --weights=PATH.json] [--basis=PATH.fbb]
+//        [--weights=PATH.json [--avatar=PATH.obj]]
 #include <optional>
 #include <random>
 
@@ -35,15 +35,14 @@
 #include "body/body_model.h"
 #include "clothing/clothing_fitter.h"
 #include "clothing/clothing_model.h"
+#include "core/file_util.h"
 #include "core/kernel_ridge.h"
 #include "core/matrix_vector.h"
+#include "core/mesh.h"
+#include "core/obj_io.h"
 #include "core/pca_basis.h"
 #include "fitbase/v1/avatar.pb.h"
 #include "fitbase/v1/clothing_basis.pb.h"
-#include "pipeline/avatar_projection.h"
-#include "core/file_util.h"
-#include "core/mesh.h"
-#include "core/obj_io.h"
 #include "proto/clothing_basis_codec.h"
 #include "proto/json_codec.h"
 #include "proto/message_file.h"
@@ -56,17 +55,6 @@ constexpr int kBatch = 64;
 constexpr int kSgemmSize = 1024;
 
 double g_stream_bytes_per_second = 0;
-
-// A topology for the synthetic meshes a fit clears: strips of triangles over the body's
-// vertices (the fits that use it push nothing deep, so its shape is never searched).
-const core::Triangles& StripTopology() {
-  static const core::Triangles strip = [] {
-    core::Triangles t(kBodyVertices - 2, 3);
-    for (int i = 0; i + 2 < kBodyVertices; ++i) t.row(i) << i, i + 1, i + 2;
-    return t;
-  }();
-  return strip;
-}
 double g_sgemm_flops_per_second = 0;
 
 // Synthetic linear model (T = N terms): the fit's cost depends on sizes only.
@@ -269,8 +257,7 @@ void BM_FitCleanup(benchmark::State& state) {
       }
     }
     for (auto _ : state) {
-      moved = *fitter.FitToBody(w, {.positions = mesh, .triangles = &StripTopology()}, true,
-                                scratch, out);
+      moved = *fitter.FitToBody(w, mesh, true, scratch, out);
       benchmark::DoNotOptimize(out.data());
     }
   }
@@ -282,7 +269,6 @@ void BM_FitCleanup(benchmark::State& state) {
 std::string g_clothing_path;
 std::string g_avatar_path;
 std::string g_weights_path;
-std::string g_basis_path;
 
 // --weights as floats, if it has the basis's count.
 std::optional<Eigen::VectorXf> ReadWeights(int components) {
@@ -299,7 +285,7 @@ std::optional<Eigen::VectorXf> ReadWeights(int components) {
 // Arg 0: the model alone; 1: with the clean-up; 2: the clean-up without its triangle guards;
 // 3: the clean-up without smoothing; 4: with the clean-up, fitted to a mesh given with the
 // weights (FitToBody), here the body of the weights 1 mm higher; 5: fitted to --avatar's mesh
-// at --weights.
+// at --weights; 6: fitted from --weights alone, with --avatar's topology.
 void BM_FitStoredBasis(benchmark::State& state) {
   v1::ClothingBasis message;
   if (!proto::ReadMessageFile(g_clothing_path, &message).ok()) {
@@ -326,32 +312,19 @@ void BM_FitStoredBasis(benchmark::State& state) {
           .cast<float>();
   clothing::FitScratch scratch;
   Eigen::VectorXf out;
-  if (state.range(0) == 5) {
-    absl::StatusOr<core::Mesh> avatar = core::ReadObj(g_avatar_path);
-    const std::optional<Eigen::VectorXf> own_weights =
-        ReadWeights(loaded->model().component_count);
+  if (state.range(0) >= 5) {
+    const std::optional<Eigen::VectorXf> own_weights = ReadWeights(loaded->model().component_count);
+    absl::StatusOr<core::Mesh> avatar =
+        state.range(0) == 5 ? core::ReadObj(g_avatar_path) : core::Mesh();
     if (!avatar.ok() || !own_weights) {
-      state.SkipWithError("cannot read --avatar and --weights for this basis");
+      state.SkipWithError("cannot read --avatar or --weights for this basis");
       return;
     }
     const std::vector<float> mesh = core::InterleavedFloats(avatar->positions);
-    const core::Triangles triangles = core::Triangulate(avatar->faces);
     for (auto _ : state) {
-      benchmark::DoNotOptimize(fitter.FitToBody(
-          *own_weights, {.positions = mesh, .triangles = &triangles}, true, scratch, out));
-    }
-    state.counters["deep"] = static_cast<double>(scratch.cleanup.deep_checks);
-  } else if (state.range(0) == 6) {
-    absl::StatusOr<pipeline::LoadedAvatarBasis> basis = pipeline::LoadAvatarBasis(g_basis_path);
-    const std::optional<Eigen::VectorXf> own_weights =
-        ReadWeights(loaded->model().component_count);
-    if (!basis.ok() || !own_weights) {
-      state.SkipWithError("cannot read --basis and --weights for this basis");
-      return;
-    }
-    for (auto _ : state) {
-      benchmark::DoNotOptimize(
-          fitter.Fit(*own_weights, true, scratch, out, {&basis->pca, &basis->triangles}));
+      benchmark::DoNotOptimize(state.range(0) == 5
+                                   ? fitter.FitToBody(*own_weights, mesh, true, scratch, out)
+                                   : fitter.Fit(*own_weights, true, scratch, out));
     }
     state.counters["deep"] = static_cast<double>(scratch.cleanup.deep_checks);
   } else if (state.range(0) == 4) {
@@ -366,8 +339,7 @@ void BM_FitStoredBasis(benchmark::State& state) {
       }
     }
     for (auto _ : state) {
-      benchmark::DoNotOptimize(fitter.FitToBody(
-          w, {.positions = mesh, .triangles = &StripTopology()}, true, scratch, out));
+      benchmark::DoNotOptimize(fitter.FitToBody(w, mesh, true, scratch, out));
     }
   } else {
     for (auto _ : state) {
@@ -378,6 +350,8 @@ void BM_FitStoredBasis(benchmark::State& state) {
   state.counters["guards"] = static_cast<double>(fitter.correspondence().guard_body.size());
   state.counters["body_points"] =
       static_cast<double>(fitter.correspondence().body_vertices.size());
+  state.counters["body_triangles"] =
+      static_cast<double>(fitter.correspondence().body_triangles.rows());
   state.counters["anchors"] = static_cast<double>(fitter.correspondence().anchors_per_vertex);
 }
 
@@ -446,7 +420,6 @@ int main(int argc, char** argv) {
     if (arg.rfind("--clothing=", 0) == 0) fitbase::g_clothing_path = arg.substr(11);
     if (arg.rfind("--avatar=", 0) == 0) fitbase::g_avatar_path = arg.substr(9);
     if (arg.rfind("--weights=", 0) == 0) fitbase::g_weights_path = arg.substr(10);
-    if (arg.rfind("--basis=", 0) == 0) fitbase::g_basis_path = arg.substr(8);
   }
   if (!fitbase::g_clothing_path.empty()) {
     const bool weights = !fitbase::g_weights_path.empty();
@@ -454,7 +427,7 @@ int main(int argc, char** argv) {
                        ->DenseRange(0, 4)
                        ->Unit(benchmark::kMicrosecond);
     if (weights && !fitbase::g_avatar_path.empty()) stored->Arg(5);
-    if (weights && !fitbase::g_basis_path.empty()) stored->Arg(6);
+    if (weights) stored->Arg(6);
   }
   fitbase::LimitCapture reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);

@@ -10,7 +10,6 @@
 #include "core/file_util.h"
 #include "core/garment_obj.h"
 #include "core/kernel_ridge.h"
-#include "core/mesh.h"
 #include "core/obj_io.h"
 #include "core/status_macros.h"
 #include "pipeline/avatar_file.h"
@@ -160,25 +159,17 @@ absl::Status RunFit(const FitFlags& flags) {
       Eigen::Map<const Eigen::VectorXd>(weights.weights().data(), weights.weights_size())
           .cast<float>();
   std::vector<float> own_body;
-  core::Triangles own_triangles;
   if (flags.fit_body == "own") {
     ASSIGN_OR_RETURN(const core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
     own_body = core::InterleavedFloats(avatar.positions);
-    own_triangles = core::Triangulate(avatar.faces);
   }
   clothing::FitScratch scratch;
   Eigen::VectorXf positions;
   const auto start = std::chrono::steady_clock::now();
-  // From the weights alone, the clean-up asks the body of the weights about its deep pushes
-  // when --basis is the basis they are on.
-  const clothing::AvatarMesh avatar = basis.has_value() && basis->message.id() == weights.basis_id()
-                                          ? clothing::AvatarMesh{&basis->pca, &basis->triangles}
-                                          : clothing::AvatarMesh();
   ASSIGN_OR_RETURN(int64_t moved,
                    own_body.empty()
-                       ? fitter.Fit(w, !flags.no_cleanup, scratch, positions, avatar)
-                       : fitter.FitToBody(w, {.positions = own_body, .triangles = &own_triangles},
-                                          !flags.no_cleanup, scratch, positions));
+                       ? fitter.Fit(w, !flags.no_cleanup, scratch, positions)
+                       : fitter.FitToBody(w, own_body, !flags.no_cleanup, scratch, positions));
   const double micros =
       std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
   mesh.mesh.positions =

@@ -200,53 +200,22 @@ AnchorPlane NearestAnchorPlane(const BodyCorrespondence& correspondence, const f
   return PlaneOfAnchor(correspondence, body4, NearestAnchor(correspondence, body4, g, v));
 }
 
-// The body mesh's tree, current for this clean-up: refitted to the mesh's positions when it
-// holds the mesh's topology (a customer's fits share it), else built.
-absl::StatusOr<const core::TriangleBvh*> CurrentBodyTree(const BodyMesh& mesh,
+// The tree of the body under the garment, current for this clean-up: the correspondence's
+// body_triangles over its body points (`body`, 3U floats, m). Refitted when it holds that
+// topology (a thread's fits of one garment share it), else built.
+absl::StatusOr<const core::TriangleBvh*> CurrentBodyTree(const BodyCorrespondence& correspondence,
+                                                         const Eigen::VectorXf& body,
                                                          CleanupScratch& scratch) {
   std::optional<core::TriangleBvh>& tree = scratch.body_tree;
   if (scratch.body_tree_current) return &*tree;
-  if (mesh.triangles == nullptr || mesh.triangles->rows() == 0) {
-    return absl::InvalidArgumentError("the body mesh has no triangles");
-  }
   core::Positions& positions = scratch.body_tree_positions;
-  if (mesh.positions.empty() && mesh.avatar != nullptr && mesh.weights != nullptr) {
-    const core::PcaBasis& avatar = *mesh.avatar;
-    if (avatar.mean.size() % 3 != 0 || avatar.components.rows() != avatar.mean.size() ||
-        avatar.components.cols() != mesh.weights->size()) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "the avatar basis (mean ", avatar.mean.size(), ", components ", avatar.components.rows(),
-          " x ", avatar.components.cols(), ") does not take ", mesh.weights->size(), " weights"));
-    }
-    positions.resize(avatar.mean.size() / 3, 3);
-    Eigen::Map<Eigen::VectorXd>(positions.data(), positions.size()) =
-        avatar.mean + avatar.components * mesh.weights->cast<double>();
-    if (!positions.allFinite()) {
-      return absl::InvalidArgumentError("the body of the weights has a non-finite coordinate");
-    }
-  } else {
-    if (mesh.positions.size() % 3 != 0) {
-      return absl::InvalidArgumentError(absl::StrCat("the body mesh has ", mesh.positions.size(),
-                                                     " coordinates, not a multiple of 3"));
-    }
-    positions.resize(static_cast<Eigen::Index>(mesh.positions.size() / 3), 3);
-    for (Eigen::Index i = 0; i < positions.rows(); ++i) {
-      for (int c = 0; c < 3; ++c) {
-        const float x = mesh.positions[static_cast<size_t>(3 * i + c)];
-        if (!std::isfinite(x)) {
-          return absl::InvalidArgumentError(
-              absl::StrCat("body vertex ", i, " has a non-finite coordinate"));
-        }
-        positions(i, c) = x;
-      }
-    }
-  }
-  const Eigen::Index vertex_count = positions.rows();
-  const core::Triangles& triangles = *mesh.triangles;
-  if (tree && tree->positions().rows() == vertex_count &&
+  positions = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+                  body.data(), body.size() / 3, 3)
+                  .cast<double>();
+  const core::Triangles& triangles = correspondence.body_triangles;
+  if (tree && tree->positions().rows() == positions.rows() &&
       tree->triangles().rows() == triangles.rows() &&
-      std::equal(triangles.data(), triangles.data() + triangles.size(),
-                 tree->triangles().data())) {
+      std::equal(triangles.data(), triangles.data() + triangles.size(), tree->triangles().data())) {
     tree->Refit(positions);
   } else {
     tree.reset();
@@ -406,6 +375,17 @@ absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(
     result.guard_body.push_back(row_of(guards[g].first));
     result.guard_triangles.row(static_cast<Eigen::Index>(g)) = guards[g].second;
   }
+  std::vector<int32_t> region;
+  for (Eigen::Index t = 0; t < body_triangles.rows(); ++t) {
+    const Eigen::RowVector3i corners = body_triangles.row(t);
+    if (std::all_of(corners.begin(), corners.end(), [&](int32_t b) {
+          return std::binary_search(result.body_vertices.begin(), result.body_vertices.end(), b);
+        })) {
+      for (int32_t b : corners) region.push_back(row_of(b));
+    }
+  }
+  result.body_triangles = Eigen::Map<const core::Triangles>(
+      region.data(), static_cast<Eigen::Index>(region.size() / 3), 3);
   if (guarded) {
     result.smoothing_iterations = kSmoothingIterations;
     RETURN_IF_ERROR(SetGarmentNeighbors(garment_triangles, result));
@@ -455,6 +435,12 @@ absl::Status ValidateBodyCorrespondence(const BodyCorrespondence& correspondence
                      correspondence.guard_triangles.maxCoeff() >= garment_vertex_count)) {
     return absl::InvalidArgumentError(absl::StrCat(
         "body correspondence guard triangle corner outside [0, ", garment_vertex_count, ")"));
+  }
+  const core::Triangles& body_triangles = correspondence.body_triangles;
+  if (body_triangles.rows() > 0 &&
+      (body_triangles.minCoeff() < 0 || body_triangles.maxCoeff() >= u)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("body correspondence body triangle corner outside [0, ", u, ")"));
   }
   if (correspondence.smoothing_iterations < 0 ||
       correspondence.smoothing_iterations > kMaxSmoothingIterations) {
@@ -576,15 +562,14 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
 int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& weights,
                       CleanupScratch& scratch, float* positions) {
   BodyPointsOfWeights(correspondence, weights, scratch.body);
-  // Without a mesh nothing can fail.
-  return *PushOutOfBodyPoints(correspondence, scratch.body, {}, nullptr, scratch, positions);
+  // The body points of finite weights are finite: the tree's build cannot fail.
+  return *PushOutOfBodyPoints(correspondence, scratch.body, {}, scratch, positions);
 }
 
 absl::StatusOr<int64_t> PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
                                             const Eigen::VectorXf& body,
                                             std::span<const int32_t> anchor_rows,
-                                            const BodyMesh* mesh, CleanupScratch& scratch,
-                                            float* positions) {
+                                            CleanupScratch& scratch, float* positions) {
   scratch.body_tree_current = false;
   scratch.deep_checks = 0;
   const float offset = static_cast<float>(correspondence.offset);
@@ -619,9 +604,10 @@ absl::StatusOr<int64_t> PushOutOfBodyPoints(const BodyCorrespondence& correspond
     const auto push = [&](const Eigen::Vector4f& direction, float amount) {
       requests.push_back({{i, i, i}, {1, 0, 0}, direction, amount});
     };
-    if (mesh != nullptr && -scaled > kDeepPush * length) {
+    if (correspondence.body_triangles.rows() > 0 && -scaled > kDeepPush * length) {
       ++scratch.deep_checks;
-      ASSIGN_OR_RETURN(const core::TriangleBvh* tree, CurrentBodyTree(*mesh, scratch));
+      ASSIGN_OR_RETURN(const core::TriangleBvh* tree,
+                       CurrentBodyTree(correspondence, body, scratch));
       const core::SurfacePoint nearest = tree->Closest(
           Eigen::Vector3d(gv[0], gv[1], gv[2]), std::numeric_limits<double>::infinity());
       if (nearest.found) {

@@ -54,6 +54,10 @@ struct BodyCorrespondence {
   std::vector<int32_t> guard_body;
   Eigen::Matrix<int32_t, Eigen::Dynamic, 3, Eigen::RowMajor> guard_triangles;
   int smoothing_iterations = 0;  // 0: no smoothing.
+  // The body under the garment: the avatar triangles whose corners are all body points, as
+  // rows of body_vertices (R x 3, counter-clockwise from outside), which the clean-up's deep
+  // pushes ask (PushOutOfBodyPoints). Empty, as in bases built before stop 50: none asked.
+  core::Triangles body_triangles;
   // The garment's edges (derived from its faces, not stored): vertex v's neighbours are
   // neighbors[neighbor_offsets[v] .. neighbor_offsets[v + 1]), ascending. Empty: no smoothing.
   std::vector<int32_t> neighbor_offsets;
@@ -89,7 +93,8 @@ inline constexpr int kMaxSmoothingIterations = 64;
 // orientation (empty: no guards and no smoothing, vertices pushed one by one); offset: m, > 0;
 // anchors_per_vertex: K >= 1, the most frequent closest triangles over the examples (ties: the
 // earlier example), padded by repeating the first. Guards take kGuardReach,
-// kGuardsPerBodyVertex and smoothing kSmoothingIterations. InvalidArgument for non-finite or
+// kGuardsPerBodyVertex and smoothing kSmoothingIterations; the result's body_triangles, every
+// avatar triangle whose corners are all body points. InvalidArgument for non-finite or
 // mismatched input.
 absl::StatusOr<BodyCorrespondence> BuildBodyCorrespondence(
     const std::vector<CorrespondenceExample>& examples, const core::PcaBasis& avatar,
@@ -115,22 +120,11 @@ struct ClearanceRequest {
   EIGEN_MAKE_ALIGNED_OPERATOR_NEW
 };
 
-// A body as a whole mesh, for the clean-up's deep pushes: the customer's own
-// (ClothingFitter::FitToBody), or the body of the weights on the avatar basis, made only when a
-// deep push needs it (ClothingFitter::Fit given the basis).
-struct BodyMesh {
-  std::span<const float> positions;            // 3B floats, m, xyz interleaved; empty: the
-  const core::PcaBasis* avatar = nullptr;      // body of `weights` on `avatar` (mean 3B,
-  const Eigen::VectorXf* weights = nullptr;    // components 3B x N; weights N, m).
-  const core::Triangles* triangles = nullptr;  // T x 3 into the B vertices, counter-clockwise
-                                               // from outside: the avatar topology.
-};
-
 // A push deeper than this (m) behind the vertex's anchor plane is checked against the body
-// mesh, where there is one. The plane goes on past the body part under the anchor: on heavy
-// men a bib overall's straps, fitted on the front of the chest, lay 8 to 18 cm behind their
-// anchors on the upper back, and the plane pushed them through the torso (stop 48). Shallower
-// pushes are left to the plane, which needs no search.
+// under the garment (BodyCorrespondence::body_triangles). The plane goes on past the body part
+// under the anchor: on heavy men a bib overall's straps, fitted on the front of the chest, lay
+// 8 to 18 cm behind their anchors on the upper back, and the plane pushed them through the
+// torso (stop 48). Shallower pushes are left to the plane, which needs no search.
 inline constexpr double kDeepPush = 0.03;
 
 // Working memory of PushOutOfBody, sized on first use, so a warm fit allocates nothing.
@@ -150,12 +144,12 @@ struct CleanupScratch {
   // Per pushed vertex: its push (w = 0) and the push's squared length.
   std::vector<Eigen::Vector4f, Eigen::aligned_allocator<Eigen::Vector4f>> held;
   std::vector<float> held_squared;
-  // The body mesh's tree, for the deep pushes: built on the first, refitted on later fits'
-  // first (the topology kept), and current within one clean-up.
+  // The tree of the body under the garment, for the deep pushes: built on the first, refitted
+  // on later fits' first (the topology kept), and current within one clean-up.
   std::optional<core::TriangleBvh> body_tree;
-  core::Positions body_tree_positions;  // B x 3, m.
+  core::Positions body_tree_positions;  // U x 3, m: the body points.
   bool body_tree_current = false;
-  int64_t deep_checks = 0;  // Of the last clean-up: pushes checked against the body mesh.
+  int64_t deep_checks = 0;  // Of the last clean-up: pushes checked against the body.
 };
 
 // The correspondence's U body points on the body of the weights (mean + components x
@@ -200,8 +194,8 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
 // BodyPointsOfWeights or GatherBodyPoints). anchor_rows: empty, or V rows of `corners`, the
 // anchor each vertex is cleared against instead of its nearest (FollowBody's: it moved the
 // vertex along that anchor's normal only, so the nearest is found once per fit, not twice).
-// mesh: null, or the whole body the points come from. With it, a vertex more than
-// kDeepPush behind its anchor's plane is asked of the mesh (its exact closest point, signed):
+// With the correspondence's body_triangles, a vertex more than kDeepPush behind its anchor's
+// plane is asked of the body under the garment (its exact closest point there, signed):
 //   - At a surface facing away from the anchor's side (normals at an obtuse angle), the plane
 //     lies beyond the body, and its push would cross it: the vertex is cleared against that
 //     surface instead, left where it is if `offset` or more outside it, else pushed out along
@@ -214,15 +208,16 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
 //     high on a full bust showed a band of skin where the drape has cloth (female_sportsuit01
 //     S, 30 held-out women: 0.52% of the drape's cloth pixels against 0.35%; 0.47% bounded).
 //   - Else (inside, or within `offset` of a surface on the anchor's side) the plane's push.
-// The mesh's tree is built (or refitted) once per clean-up that has such a vertex, none
-// otherwise. InvalidArgument for a mesh whose count is not 3B, whose triangles are missing or
-// index outside it, with a non-finite coordinate, or made from a basis whose sizes disagree
-// with the weights.
+// Body parts no anchor lies on (a head above a pair of trousers) are not asked: the points
+// carry no others, and the region's tree costs a fraction of the whole body's (on
+// male_worksuit01 M, a fit from the weights with 58 deep pushes took 826 us with the whole
+// body of the weights made from the avatar basis, about 250 us with its region; 205 us without
+// deep pushes). The tree is built (or refitted) once per clean-up that has such a vertex, none
+// otherwise. InvalidArgument from the tree's build only (a body point that is not finite).
 absl::StatusOr<int64_t> PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
                                             const Eigen::VectorXf& body,
                                             std::span<const int32_t> anchor_rows,
-                                            const BodyMesh* mesh, CleanupScratch& scratch,
-                                            float* positions);
+                                            CleanupScratch& scratch, float* positions);
 
 }  // namespace fitbase::clothing
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "Eigen/Geometry"
+#include "absl/algorithm/container.h"
 #include "core/mesh.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
@@ -129,9 +130,7 @@ TEST(BodyCorrespondenceTest, ClearsAgainstTheGivenAnchorRows) {
   for (const int32_t row : {0, 1}) {
     Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.104f, 0.0f);
     const std::vector<int32_t> rows = {row};
-    EXPECT_EQ(*PushOutOfBodyPoints(correspondence, body, rows, nullptr, scratch,
-                                   positions.data()),
-              1);
+    EXPECT_EQ(*PushOutOfBodyPoints(correspondence, body, rows, scratch, positions.data()), 1);
     if (row == 0) {
       EXPECT_NEAR(positions(0), 0.5 + 0.0025, 1e-6);
       EXPECT_NEAR(positions(1), 0.104, 1e-6);
@@ -142,26 +141,45 @@ TEST(BodyCorrespondenceTest, ClearsAgainstTheGivenAnchorRows) {
   }
 }
 
-// The cube lowered by 0.395 m (its top at y = 0.105) as a whole mesh: 3B floats and its
-// triangles.
-std::vector<float> LoweredCubeMesh() {
-  std::vector<float> mesh(24);
-  for (int i = 0; i < 8; ++i) {
-    mesh[3 * i] = i & 1 ? 0.5f : -0.5f;
-    mesh[3 * i + 1] = (i & 2 ? 0.5f : -0.5f) - 0.395f;
-    mesh[3 * i + 2] = i & 4 ? 0.5f : -0.5f;
+// The sliding vertex's correspondence with every cube vertex as a body point (row i: vertex
+// i), as if the garment covered the whole cube: its body_triangles are the cube's.
+BodyCorrespondence OverTheWholeCube(const CubeBody& cube) {
+  BodyCorrespondence correspondence = SlidingVertex(cube);
+  for (Eigen::Index i = 0; i < correspondence.corners.size(); ++i) {
+    correspondence.corners.data()[i] =
+        correspondence.body_vertices[static_cast<size_t>(correspondence.corners.data()[i])];
   }
-  return mesh;
+  correspondence.body_vertices = {0, 1, 2, 3, 4, 5, 6, 7};
+  correspondence.body_mean = cube.basis.mean.cast<float>();
+  correspondence.body_components = cube.basis.components.cast<float>();
+  correspondence.body_triangles = cube.triangles;
+  return correspondence;
 }
 
-// The sliding vertex's correspondence on the customer lowered by 0.395 m: its body points, and
-// the anchor row on the +x face (row 0) to clear against.
+// The correspondence without its body_triangles, as in a basis built before them.
+BodyCorrespondence WithoutBodyTriangles(BodyCorrespondence correspondence) {
+  correspondence.body_triangles.resize(0, 3);
+  return correspondence;
+}
+
+// That correspondence on the customer lowered by 0.395 m (its top at y = 0.105): its body
+// points, and the anchor row on the +x face (row 0) to clear against.
 class DeepPushTest : public ::testing::Test {
  protected:
   DeepPushTest() { BodyPointsOfWeights(correspondence_, weights_, body_); }
 
+  // The vertex at `at` after the clean-up against row 0 (one vertex moved, or none).
+  Eigen::Vector3f Clean(const BodyCorrespondence& correspondence, const Eigen::VectorXf& body,
+                        const Eigen::Vector3f& at, CleanupScratch& scratch) const {
+    Eigen::VectorXf positions = at;
+    const int64_t moved =
+        *PushOutOfBodyPoints(correspondence, body, plus_x_, scratch, positions.data());
+    EXPECT_EQ(moved, positions == Eigen::VectorXf(at) ? 0 : 1);
+    return Eigen::Vector3f(positions);
+  }
+
   const CubeBody cube_ = MakeCube();
-  const BodyCorrespondence correspondence_ = SlidingVertex(cube_);
+  const BodyCorrespondence correspondence_ = OverTheWholeCube(cube_);
   const Eigen::VectorXf weights_ =
       Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0)));
   Eigen::VectorXf body_;
@@ -169,126 +187,79 @@ class DeepPushTest : public ::testing::Test {
 };
 
 // Against the anchor on the +x face (row 0), every vertex below lies deep behind the anchor's
-// plane, and without the mesh that plane pushes each out through the +x face. With the mesh,
-// a vertex at the -x face, which looks away from the anchor's side, is cleared against that
-// face instead: left alone 10 cm outside it, pushed out to the offset from 1 mm outside or
-// 1 cm inside it. At the top (normal +y, not at an obtuse angle to +x) the plane's push
-// stands, as without the mesh, for a vertex 1 mm inside; one 9.5 cm above, clear of the body,
-// is pushed kDeepPush along the anchor's normal, no further.
-TEST_F(DeepPushTest, AsksTheBodyMesh) {
-  const std::vector<float> mesh = LoweredCubeMesh();
-  const BodyMesh cube_mesh{.positions = mesh, .triangles = &cube_.triangles};
+// plane, and without the body triangles that plane pushes each out through the +x face. With
+// them, a vertex at the -x face, which looks away from the anchor's side, is cleared against
+// that face instead: left alone 10 cm outside it, pushed out to the offset from 1 mm outside
+// or 1 cm inside it. At the top (normal +y, not at an obtuse angle to +x) the plane's push
+// stands, as without them, for a vertex 1 mm inside; one 9.5 cm above, clear of the body, is
+// pushed kDeepPush along the anchor's normal, no further.
+TEST_F(DeepPushTest, AsksTheBodyUnderTheGarment) {
+  ASSERT_EQ(correspondence_.corners(0, 0), 3);  // Row 0 lies on the +x face.
+  const BodyCorrespondence unasked = WithoutBodyTriangles(correspondence_);
   CleanupScratch scratch;
-  const auto clean = [&](Eigen::Vector3f at, const BodyMesh* with) {
-    Eigen::VectorXf positions = at;
-    const int64_t moved =
-        *PushOutOfBodyPoints(correspondence_, body_, plus_x_, with, scratch, positions.data());
-    EXPECT_EQ(moved, positions == Eigen::VectorXf(at) ? 0 : 1);
-    return Eigen::Vector3f(positions);
+  const auto clean = [&](const Eigen::Vector3f& at) {
+    return Clean(correspondence_, body_, at, scratch);
   };
 
   const Eigen::Vector3f beside(-0.6f, -0.4f, 0.0f);
-  EXPECT_NEAR(clean(beside, nullptr).x(), 0.5 + 0.0025, 1e-6);  // Through the body.
-  EXPECT_EQ(clean(beside, &cube_mesh), beside);
+  EXPECT_NEAR(Clean(unasked, body_, beside, scratch).x(), 0.5 + 0.0025, 1e-6);  // Through it.
+  EXPECT_EQ(scratch.deep_checks, 0);
+  EXPECT_EQ(clean(beside), beside);
   EXPECT_EQ(scratch.deep_checks, 1);
   for (const float x : {-0.501f, -0.49f}) {
-    const Eigen::Vector3f out = clean(Eigen::Vector3f(x, -0.4f, 0.0f), &cube_mesh);
+    const Eigen::Vector3f out = clean(Eigen::Vector3f(x, -0.4f, 0.0f));
     EXPECT_NEAR(out.x(), -0.5 - 0.0025, 1e-6);
     EXPECT_NEAR(out.y(), -0.4, 1e-6);
   }
 
-  const Eigen::Vector3f in_top(0.3f, 0.104f, 0.0f);
-  EXPECT_NEAR(clean(in_top, &cube_mesh).x(), 0.5 + 0.0025, 1e-6);
-  const Eigen::Vector3f above(0.3f, 0.2f, 0.0f);
-  const Eigen::Vector3f pulled = clean(above, &cube_mesh);
+  EXPECT_NEAR(clean(Eigen::Vector3f(0.3f, 0.104f, 0.0f)).x(), 0.5 + 0.0025, 1e-6);
+  const Eigen::Vector3f pulled = clean(Eigen::Vector3f(0.3f, 0.2f, 0.0f));
   EXPECT_NEAR(pulled.x(), 0.3 + kDeepPush, 1e-6);
   EXPECT_NEAR(pulled.y(), 0.2, 1e-6);
   EXPECT_EQ(scratch.deep_checks, 1);
 
-  // 2 cm behind the plane is not deep: the mesh is not asked.
-  const Eigen::Vector3f shallow(0.48f, 0.2f, 0.0f);
-  EXPECT_NEAR(clean(shallow, &cube_mesh).x(), 0.5 + 0.0025, 1e-6);
+  // 2 cm behind the plane is not deep: the body is not asked.
+  EXPECT_NEAR(clean(Eigen::Vector3f(0.48f, 0.2f, 0.0f)).x(), 0.5 + 0.0025, 1e-6);
   EXPECT_EQ(scratch.deep_checks, 0);
 }
 
-// The tree the scratch keeps is refitted to each mesh: a fit after one on another body answers
-// as a fresh scratch does, and a mesh of another topology gets a tree of its own.
-TEST_F(DeepPushTest, RefitsTheTreeToEachMesh) {
-  const std::vector<float> lowered = LoweredCubeMesh();
-  std::vector<float> wider = lowered;
-  for (size_t i = 0; i < wider.size(); i += 3) wider[i] *= 1.1f;  // The -x face at -0.55.
+// Only the body under the garment is asked. The sliding vertex's own correspondence, as built,
+// has body triangles at the +x face, the top and the front, and none at the -x face: a vertex
+// 1 cm inside that face finds the nearest of them about 60 cm away with the body on the far
+// side, so it gets the plane's push, as without them.
+TEST_F(DeepPushTest, AsksOnlyTheBodyUnderTheGarment) {
+  const BodyCorrespondence sliding = SlidingVertex(cube_);
+  ASSERT_GT(sliding.body_triangles.rows(), 0);
+  EXPECT_FALSE(absl::c_linear_search(sliding.body_vertices, 0));
+  Eigen::VectorXf body;
+  BodyPointsOfWeights(sliding, weights_, body);
+  CleanupScratch scratch;
   const Eigen::Vector3f in_left(-0.49f, -0.4f, 0.0f);
-  const auto clean = [&](const std::vector<float>& mesh, const core::Triangles& triangles,
-                         CleanupScratch& scratch) {
-    Eigen::VectorXf positions = in_left;
-    const BodyMesh with{.positions = mesh, .triangles = &triangles};
-    EXPECT_TRUE(
-        PushOutOfBodyPoints(correspondence_, body_, plus_x_, &with, scratch, positions.data())
-            .ok());
-    return Eigen::Vector3f(positions);
-  };
+  const Eigen::Vector3f asked = Clean(sliding, body, in_left, scratch);
+  EXPECT_EQ(scratch.deep_checks, 1);
+  EXPECT_EQ(asked, Clean(WithoutBodyTriangles(sliding), body, in_left, scratch));
+  EXPECT_NEAR(asked.x(), 0.5 + 0.0025, 1e-6);
+}
+
+// The tree the scratch keeps is refitted to each body: a fit after one on another body answers
+// as a fresh scratch does, and another garment's body triangles get a tree of their own.
+TEST_F(DeepPushTest, RefitsTheTreeToEachBody) {
+  Eigen::VectorXf wider = body_;
+  for (Eigen::Index i = 0; i < wider.size(); i += 3) wider(i) *= 1.1f;  // The -x face at -0.55.
+  const Eigen::Vector3f in_left(-0.49f, -0.4f, 0.0f);
   CleanupScratch shared;
-  EXPECT_NEAR(clean(lowered, cube_.triangles, shared).x(), -0.5025, 1e-6);
+  EXPECT_NEAR(Clean(correspondence_, body_, in_left, shared).x(), -0.5025, 1e-6);
   CleanupScratch fresh;
-  const Eigen::Vector3f refitted = clean(wider, cube_.triangles, shared);
-  EXPECT_EQ(refitted, clean(wider, cube_.triangles, fresh));
+  const Eigen::Vector3f refitted = Clean(correspondence_, wider, in_left, shared);
+  EXPECT_EQ(refitted, Clean(correspondence_, wider, in_left, fresh));
   EXPECT_NEAR(refitted.x(), -0.5525, 1e-6);
   // The same cube with its triangles' corners rotated: another topology, the same surface.
-  core::Triangles rotated = cube_.triangles;
-  for (Eigen::Index t = 0; t < rotated.rows(); ++t) {
-    rotated.row(t) << cube_.triangles(t, 1), cube_.triangles(t, 2), cube_.triangles(t, 0);
+  BodyCorrespondence rotated = correspondence_;
+  for (Eigen::Index t = 0; t < rotated.body_triangles.rows(); ++t) {
+    rotated.body_triangles.row(t) << cube_.triangles(t, 1), cube_.triangles(t, 2),
+        cube_.triangles(t, 0);
   }
-  EXPECT_NEAR(clean(lowered, rotated, shared).x(), -0.5025, 1e-6);
-}
-
-// Without the customer's mesh, the body of the weights is made from the avatar basis when a
-// deep push needs it, and answers as that body given as a mesh does.
-TEST_F(DeepPushTest, MakesTheBodyOfTheWeights) {
-  const std::vector<float> mesh = LoweredCubeMesh();
-  const BodyMesh given{.positions = mesh, .triangles = &cube_.triangles};
-  const BodyMesh made{.avatar = &cube_.basis, .weights = &weights_, .triangles = &cube_.triangles};
-  for (const float x : {-0.6f, -0.49f, 0.3f}) {
-    Eigen::VectorXf from_given = Eigen::Vector3f(x, x < 0 ? -0.4f : 0.2f, 0.0f);
-    Eigen::VectorXf from_made = from_given;
-    CleanupScratch scratch;
-    ASSERT_TRUE(
-        PushOutOfBodyPoints(correspondence_, body_, plus_x_, &given, scratch, from_given.data())
-            .ok());
-    ASSERT_TRUE(
-        PushOutOfBodyPoints(correspondence_, body_, plus_x_, &made, scratch, from_made.data())
-            .ok());
-    EXPECT_TRUE(from_made.isApprox(from_given, 1e-6f)) << x;
-  }
-  const Eigen::VectorXf two = Eigen::VectorXf::Zero(2);
-  const BodyMesh mismatched{.avatar = &cube_.basis, .weights = &two, .triangles = &cube_.triangles};
-  Eigen::VectorXf positions = Eigen::Vector3f(-0.49f, -0.4f, 0.0f);
-  CleanupScratch scratch;
-  EXPECT_THAT(
-      PushOutOfBodyPoints(correspondence_, body_, plus_x_, &mismatched, scratch, positions.data()),
-      StatusIs(absl::StatusCode::kInvalidArgument, "does not take 2 weights"));
-}
-
-TEST_F(DeepPushTest, RejectsABadMesh) {
-  CleanupScratch scratch;
-  const auto clean = [&](const std::vector<float>& mesh, const core::Triangles* triangles) {
-    Eigen::VectorXf positions = Eigen::Vector3f(0.3f, 0.2f, 0.0f);
-    const BodyMesh with{.positions = mesh, .triangles = triangles};
-    return PushOutOfBodyPoints(correspondence_, body_, plus_x_, &with, scratch, positions.data())
-        .status();
-  };
-  std::vector<float> mesh = LoweredCubeMesh();
-  EXPECT_TRUE(clean(mesh, &cube_.triangles).ok());
-  EXPECT_THAT(clean(mesh, nullptr), StatusIs(absl::StatusCode::kInvalidArgument, "no triangles"));
-  core::Triangles out_of_range = cube_.triangles;
-  out_of_range(3, 1) = 8;
-  EXPECT_THAT(clean(mesh, &out_of_range),
-              StatusIs(absl::StatusCode::kInvalidArgument, "triangle 3 corner 1"));
-  mesh[7] = std::numeric_limits<float>::infinity();
-  EXPECT_THAT(clean(mesh, &cube_.triangles),
-              StatusIs(absl::StatusCode::kInvalidArgument, "body vertex 2 has a non-finite"));
-  mesh.pop_back();
-  EXPECT_THAT(clean(mesh, &cube_.triangles),
-              StatusIs(absl::StatusCode::kInvalidArgument, "not a multiple of 3"));
+  EXPECT_NEAR(Clean(rotated, body_, in_left, shared).x(), -0.5025, 1e-6);
 }
 
 TEST(BodyCorrespondenceTest, KeepsOnlyTheBodyVerticesItNeeds) {
@@ -300,6 +271,10 @@ TEST(BodyCorrespondenceTest, KeepsOnlyTheBodyVerticesItNeeds) {
                                core::Triangles(), 0.0025, 1);
   EXPECT_EQ(correspondence.body_vertices.size(), 3u);
   EXPECT_EQ(correspondence.body_components.rows(), 9);
+  // The one triangle under the garment, its corners as rows of the body points.
+  ASSERT_EQ(correspondence.body_triangles.rows(), 1);
+  EXPECT_EQ(correspondence.body_triangles.minCoeff(), 0);
+  EXPECT_EQ(correspondence.body_triangles.maxCoeff(), 2);
   EXPECT_NEAR(correspondence.barycentric.sum(), 1.0f, 1e-6);
 }
 
@@ -324,6 +299,13 @@ TEST(BodyCorrespondenceTest, RejectsBadInput) {
               StatusIs(absl::StatusCode::kInvalidArgument, "the garment has 5 vertices"));
   EXPECT_THAT(ValidateBodyCorrespondence(correspondence, 1, 3),
               StatusIs(absl::StatusCode::kInvalidArgument, "expected 3"));
+  for (const int32_t corner : {-1, 3}) {
+    BodyCorrespondence bad = correspondence;
+    bad.body_triangles(0, 1) = corner;
+    EXPECT_THAT(
+        ValidateBodyCorrespondence(bad, 1, 1),
+        StatusIs(absl::StatusCode::kInvalidArgument, "body triangle corner outside [0, 3)"));
+  }
 }
 
 // A flat body patch in y = 0: the square [-1, 1]^2 (vertices 0-3) around the square

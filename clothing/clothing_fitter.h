@@ -1,13 +1,13 @@
 #ifndef FITBASE_CLOTHING_CLOTHING_FITTER_H_
 #define FITBASE_CLOTHING_CLOTHING_FITTER_H_
 
+#include <span>
+
 #include "Eigen/Core"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "clothing/body_correspondence.h"
 #include "clothing/clothing_model.h"
-#include "core/mesh.h"
-#include "core/pca_basis.h"
 
 namespace fitbase::clothing {
 
@@ -15,14 +15,6 @@ namespace fitbase::clothing {
 struct FitScratch {
   Eigen::VectorXf features;
   CleanupScratch cleanup;
-};
-
-// The avatar basis a fit's weights are on, with its topology (the mean avatar's faces as
-// triangles). Given to Fit, it lets the clean-up ask the body of the weights, made as a mesh
-// only when a deep push needs it, what FitToBody asks the customer's own mesh.
-struct AvatarMesh {
-  const core::PcaBasis* basis = nullptr;
-  const core::Triangles* triangles = nullptr;
 };
 
 // The online fit of one garment size: the clothing model evaluated at a customer's avatar
@@ -35,18 +27,17 @@ class ClothingFitter {
                                                BodyCorrespondence correspondence);
 
   // weights: N (m), checked; out: 3V floats (m), xyz interleaved, the template's vertex order.
-  // avatar: none (the clean-up's deep pushes are the anchors' alone), or the basis the weights
-  // are on, N components, with its triangles (InvalidArgument if it has none or another N).
-  // Returns how many vertices the clean-up moved.
+  // The clean-up clears the body of the weights and asks it, under the garment, about its deep
+  // pushes (PushOutOfBodyPoints). Returns how many vertices the clean-up moved.
   absl::StatusOr<int64_t> Fit(const Eigen::VectorXf& weights, bool cleanup, FitScratch& scratch,
-                              Eigen::VectorXf& out, const AvatarMesh& avatar = {}) const;
+                              Eigen::VectorXf& out) const;
 
-  // As Fit, for the customer's own mesh instead of the body of the weights: body, in the
-  // avatar topology, the mesh `weights` were projected from. The fitted garment follows what
-  // the projection left out of the body (FollowBody), and the clean-up clears `body`, asking
-  // the mesh itself about the deep pushes (PushOutOfBodyPoints). InvalidArgument as
-  // GatherBodyPoints and PushOutOfBodyPoints, and for a mesh without triangles.
-  absl::StatusOr<int64_t> FitToBody(const Eigen::VectorXf& weights, const BodyMesh& body,
+  // As Fit, for the customer's own mesh instead of the body of the weights: body, 3B floats
+  // (m, xyz interleaved) in the avatar topology, the mesh `weights` were projected from. The
+  // fitted garment follows what the projection left out of the body (FollowBody), and the
+  // clean-up clears `body`, asking it under the garment about the deep pushes. InvalidArgument
+  // as GatherBodyPoints.
+  absl::StatusOr<int64_t> FitToBody(const Eigen::VectorXf& weights, std::span<const float> body,
                                     bool cleanup, FitScratch& scratch,
                                     Eigen::VectorXf& out) const;
 

@@ -3,8 +3,6 @@
 #include <limits>
 #include <vector>
 
-#include "core/mesh.h"
-#include "core/pca_basis.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -77,30 +75,6 @@ std::vector<float> Triangle(float dx, float dy) {
   return {dx, dy, 0, dx, dy, 1, 1 + dx, dy, 0};
 }
 
-// Its topology, counter-clockwise seen from +y.
-const core::Triangles& OneTriangle() {
-  static const core::Triangles triangles = core::Triangles{{0, 1, 2}};
-  return triangles;
-}
-
-TEST(ClothingFitterTest, FitRejectsAnAvatarBasisThatDoesNotTakeTheWeights) {
-  OneVertex s = MakeOneVertex();
-  const ClothingFitter fitter = *ClothingFitter::Create(s.model, s.correspondence);
-  FitScratch scratch;
-  Eigen::VectorXf out;
-  const Eigen::VectorXf weights = Eigen::Vector2f(0.0f, 0.01f);
-  core::PcaBasis basis;
-  basis.mean = Eigen::VectorXd::Zero(9);
-  basis.components = Eigen::MatrixXd::Zero(9, 3);
-  EXPECT_THAT(fitter.Fit(weights, true, scratch, out, {&basis, &OneTriangle()}),
-              StatusIs(absl::StatusCode::kInvalidArgument, "has 3 components"));
-  basis.components = Eigen::MatrixXd::Zero(9, 2);
-  EXPECT_THAT(fitter.Fit(weights, true, scratch, out, {&basis, nullptr}),
-              StatusIs(absl::StatusCode::kInvalidArgument, "without triangles"));
-  EXPECT_EQ(*fitter.Fit(weights, true, scratch, out, {&basis, &OneTriangle()}), 0);
-  EXPECT_NEAR(out(1), 0.011f, 1e-7);
-}
-
 TEST(ClothingFitterTest, FitToBodyFollowsTheMeshAlongItsNormalOnly) {
   OneVertex s = MakeOneVertex();
   const ClothingFitter fitter = *ClothingFitter::Create(s.model, s.correspondence);
@@ -110,17 +84,10 @@ TEST(ClothingFitterTest, FitToBodyFollowsTheMeshAlongItsNormalOnly) {
   const Eigen::VectorXf weights = Eigen::Vector2f(0.0f, 0.01f);  // 11 mm above y = 0.
   ASSERT_TRUE(fitter.Fit(weights, true, scratch, fitted).ok());
   // The mesh is the body of the weights: the same garment.
-  ASSERT_TRUE(fitter
-                  .FitToBody(weights, {.positions = Triangle(0, 0), .triangles = &OneTriangle()},
-                             true, scratch, out)
-                  .ok());
+  ASSERT_TRUE(fitter.FitToBody(weights, Triangle(0, 0), true, scratch, out).ok());
   EXPECT_EQ(out, fitted);
   // 4 mm out along the normal and 1 cm along the skin: only the 4 mm are carried.
-  ASSERT_TRUE(fitter
-                  .FitToBody(weights,
-                             {.positions = Triangle(0.01f, 0.004f), .triangles = &OneTriangle()},
-                             true, scratch, out)
-                  .ok());
+  ASSERT_TRUE(fitter.FitToBody(weights, Triangle(0.01f, 0.004f), true, scratch, out).ok());
   EXPECT_NEAR(out(0), fitted(0), 1e-7);
   EXPECT_NEAR(out(1), 0.015f, 1e-6);
   EXPECT_NEAR(out(2), fitted(2), 1e-7);
@@ -135,14 +102,9 @@ TEST(ClothingFitterTest, FitToBodyClearsTheMeshNotTheBodyOfTheWeights) {
   const Eigen::VectorXf weights = Eigen::Vector2f(0.0f, -0.0005f);
   // The mesh 1 cm lower: the garment follows it down and is pushed out to 2.5 mm above it,
   // still 7.5 mm under the body of the weights.
-  const std::vector<float> lower = Triangle(0, -0.01f);
-  EXPECT_EQ(*fitter.FitToBody(weights, {.positions = lower, .triangles = &OneTriangle()}, true,
-                              scratch, out),
-            1);
+  EXPECT_EQ(*fitter.FitToBody(weights, Triangle(0, -0.01f), true, scratch, out), 1);
   EXPECT_NEAR(out(1), -0.0075f, 1e-6);
-  EXPECT_EQ(*fitter.FitToBody(weights, {.positions = lower, .triangles = &OneTriangle()}, false,
-                              scratch, out),
-            0);
+  EXPECT_EQ(*fitter.FitToBody(weights, Triangle(0, -0.01f), false, scratch, out), 0);
   EXPECT_NEAR(out(1), -0.0095f, 1e-6);
 }
 
@@ -154,30 +116,17 @@ TEST(ClothingFitterTest, FitToBodyRejectsABadMesh) {
   const Eigen::VectorXf weights = Eigen::Vector2f::Zero();
   std::vector<float> body = Triangle(0, 0);
   body.resize(6);
-  EXPECT_THAT(fitter.FitToBody(weights, {.positions = body, .triangles = &OneTriangle()}, true,
-                               scratch, out),
+  EXPECT_THAT(fitter.FitToBody(weights, body, true, scratch, out),
               StatusIs(absl::StatusCode::kInvalidArgument, "the body has 2 vertices"));
   body.push_back(0);
-  EXPECT_THAT(fitter.FitToBody(weights, {.positions = body, .triangles = &OneTriangle()}, true,
-                               scratch, out),
+  EXPECT_THAT(fitter.FitToBody(weights, body, true, scratch, out),
               StatusIs(absl::StatusCode::kInvalidArgument, "not a multiple of 3"));
   body = Triangle(0, 0);
   body[4] = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_THAT(fitter.FitToBody(weights, {.positions = body, .triangles = &OneTriangle()}, true,
-                               scratch, out),
+  EXPECT_THAT(fitter.FitToBody(weights, body, true, scratch, out),
               StatusIs(absl::StatusCode::kInvalidArgument, "vertex 1 has a non-finite"));
-  const std::vector<float> good = Triangle(0, 0);
-  EXPECT_THAT(
-      fitter.FitToBody(Eigen::VectorXf::Zero(5), {.positions = good, .triangles = &OneTriangle()},
-                       true, scratch, out),
-      StatusIs(absl::StatusCode::kInvalidArgument, "got 5 avatar weights"));
-  EXPECT_THAT(
-      fitter.FitToBody(weights, {.positions = good, .triangles = nullptr}, true, scratch, out),
-      StatusIs(absl::StatusCode::kInvalidArgument, "no triangles"));
-  const core::Triangles none(0, 3);
-  EXPECT_THAT(
-      fitter.FitToBody(weights, {.positions = good, .triangles = &none}, true, scratch, out),
-      StatusIs(absl::StatusCode::kInvalidArgument, "no triangles"));
+  EXPECT_THAT(fitter.FitToBody(Eigen::VectorXf::Zero(5), Triangle(0, 0), true, scratch, out),
+              StatusIs(absl::StatusCode::kInvalidArgument, "got 5 avatar weights"));
 }
 
 }  // namespace

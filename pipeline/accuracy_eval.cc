@@ -20,6 +20,7 @@
 #include "pipeline/clothing_basis_builder.h"
 #include "pipeline/size_advisor.h"
 #include "pipeline/skin_visibility.h"
+#include "proto/avatar_basis_codec.h"
 #include "proto/clothing_basis_codec.h"
 #include "proto/mesh_codec.h"
 #include "proto/message_file.h"
@@ -279,9 +280,9 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
                              const std::vector<v1::DrapeResult>& examples,
                              const std::vector<v1::DrapeResult>& truths,
                              const std::vector<v1::DrapeResult>& on_weights_bodies,
-                             const std::vector<Holdout>& holdouts, const LoadedAvatarBasis& avatar,
-                             std::vector<RowStats>& rows, v1::GarmentAccuracy& out) {
-  const core::Triangles& body_triangles = avatar.triangles;
+                             const std::vector<Holdout>& holdouts,
+                             const core::Triangles& body_triangles, std::vector<RowStats>& rows,
+                             v1::GarmentAccuracy& out) {
   const v1::Garment& garment = *g.spec.garment;
   const int64_t vertex_count = garment.template_mesh().vertex_count();
   ASSIGN_OR_RETURN(const core::Mesh garment_mesh, proto::MeshFromProto(garment.template_mesh()));
@@ -326,11 +327,8 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
     Eigen::VectorXf fit;
     const auto fit_one = [&](const Holdout& h) {
       return spec.fit_on_own_body
-                 ? fitter->FitToBody(h.weights,
-                                     {.positions = h.body_xyz, .triangles = &body_triangles},
-                                     row.cleanup, scratch, fit)
-                 : fitter->Fit(h.weights, row.cleanup, scratch, fit,
-                               {&avatar.pca, &body_triangles});
+                 ? fitter->FitToBody(h.weights, h.body_xyz, row.cleanup, scratch, fit)
+                 : fitter->Fit(h.weights, row.cleanup, scratch, fit);
     };
     for (size_t h = 0; h < holdouts.size(); ++h) {
       RETURN_IF_ERROR(fit_one(holdouts[h]).status());
@@ -412,6 +410,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
 // the held-out avatars are drawn from (the spec's, else the basis's own).
 struct EvalBasis {
   LoadedAvatarBasis basis;
+  core::Triangles triangles;
   std::string preset_name;
   body::PopulationPreset preset;
 };
@@ -425,7 +424,10 @@ absl::StatusOr<EvalBasis> LoadEvalBasis(const AccuracyEvalSpec& spec) {
         "the avatar basis has no population preset; name the held-out avatars' preset");
   }
   ASSIGN_OR_RETURN(out.preset, body::ParsePopulationPreset(out.preset_name));
-  ASSIGN_OR_RETURN(out.basis, AvatarBasisFromMessage(basis_message));
+  out.basis = {basis_message, {}};
+  ASSIGN_OR_RETURN(out.basis.pca, proto::PcaBasisFromProto(basis_message));
+  ASSIGN_OR_RETURN(core::Mesh mean, proto::MeshFromProto(basis_message.mean()));
+  out.triangles = core::Triangulate(mean.faces);
   return out;
 }
 
@@ -438,7 +440,7 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
   ASSIGN_OR_RETURN(EvalBasis loaded, LoadEvalBasis(spec));
   const v1::AvatarBasis& basis_message = *spec.avatar_basis;
   const LoadedAvatarBasis& basis = loaded.basis;
-  const core::Triangles& triangles = loaded.basis.triangles;
+  const core::Triangles& triangles = loaded.triangles;
   const std::string& preset_name = loaded.preset_name;
   const body::PopulationPreset preset = loaded.preset;
 
@@ -516,7 +518,8 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
 
     std::vector<RowStats> rows = EmptyRows(spec.methods);
     RETURN_IF_ERROR(
-        EvaluateGarment(spec, g, examples, truths, on_weights_bodies, holdouts, basis, rows, *out));
+        EvaluateGarment(spec, g, examples, truths, on_weights_bodies, holdouts, triangles, rows,
+                        *out));
     for (size_t r = 0; r < rows.size(); ++r) {
       *out->add_methods() = rows[r].Finish(seconds);
       overall[r].errors_mm.insert(overall[r].errors_mm.end(), rows[r].errors_mm.begin(),
@@ -543,7 +546,7 @@ absl::StatusOr<std::vector<AdviceAgreement>> EvaluateAdviceAgreement(
   ASSIGN_OR_RETURN(EvalBasis loaded, LoadEvalBasis(spec));
   const v1::AvatarBasis& basis_message = *spec.avatar_basis;
   const LoadedAvatarBasis& basis = loaded.basis;
-  const core::Triangles& triangles = loaded.basis.triangles;
+  const core::Triangles& triangles = loaded.triangles;
   const body::PopulationPreset preset = loaded.preset;
   double avatar_error = 0;
   ASSIGN_OR_RETURN(std::vector<Holdout> holdouts,

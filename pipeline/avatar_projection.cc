@@ -1,29 +1,19 @@
 #include "pipeline/avatar_projection.h"
 
 #include <cmath>
-#include <utility>
 
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
 #include "proto/avatar_basis_codec.h"
-#include "proto/mesh_codec.h"
 #include "proto/message_file.h"
 
 namespace fitbase::pipeline {
 
-absl::StatusOr<LoadedAvatarBasis> AvatarBasisFromMessage(v1::AvatarBasis message) {
-  LoadedAvatarBasis basis;
-  basis.message = std::move(message);
-  ASSIGN_OR_RETURN(basis.pca, proto::PcaBasisFromProto(basis.message));
-  ASSIGN_OR_RETURN(const core::Mesh mean, proto::MeshFromProto(basis.message.mean()));
-  basis.triangles = core::Triangulate(mean.faces);
-  return basis;
-}
-
 absl::StatusOr<LoadedAvatarBasis> LoadAvatarBasis(const std::filesystem::path& path) {
-  v1::AvatarBasis message;
-  RETURN_IF_ERROR(proto::ReadMessageFile(path, &message));
-  return AvatarBasisFromMessage(std::move(message));
+  LoadedAvatarBasis basis;
+  RETURN_IF_ERROR(proto::ReadMessageFile(path, &basis.message));
+  ASSIGN_OR_RETURN(basis.pca, proto::PcaBasisFromProto(basis.message));
+  return basis;
 }
 
 absl::StatusOr<Eigen::VectorXd> CheckedWeights(const v1::AvatarWeights& weights,

@@ -16,13 +16,7 @@ namespace fitbase::pipeline {
 struct LoadedAvatarBasis {
   v1::AvatarBasis message;
   core::PcaBasis pca;
-  // The mean avatar's faces, triangulated: the topology a customer's own mesh comes in, for
-  // the fit's clean-up (clothing::BodyMesh).
-  core::Triangles triangles;
 };
-
-// The message decoded and checked (its mean mesh and components).
-absl::StatusOr<LoadedAvatarBasis> AvatarBasisFromMessage(v1::AvatarBasis message);
 
 absl::StatusOr<LoadedAvatarBasis> LoadAvatarBasis(const std::filesystem::path& path);
 

@@ -78,6 +78,8 @@ void BodyCorrespondenceToProto(const clothing::BodyCorrespondence& correspondenc
   const auto guards = correspondence.guard_triangles.reshaped<Eigen::RowMajor>();
   message->mutable_guard_triangles()->Assign(guards.begin(), guards.end());
   message->set_smoothing_iterations(static_cast<uint32_t>(correspondence.smoothing_iterations));
+  const auto body_triangles = correspondence.body_triangles.reshaped<Eigen::RowMajor>();
+  message->mutable_body_triangles()->Assign(body_triangles.begin(), body_triangles.end());
 }
 
 absl::StatusOr<clothing::ClothingModel> ClothingModelFromProto(const v1::ClothingBasis& message) {
@@ -144,8 +146,8 @@ absl::StatusOr<clothing::BodyCorrespondence> BodyCorrespondenceFromProto(
   const int64_t n = message.component_count();
   const int64_t g = c.guard_body_size();
   if (k < 1 || k > 64 || c.corners_size() != 3 * v * k || c.barycentric_size() != 3 * v * k ||
-      c.body_mean_size() != 3 * u ||
-      c.body_components_size() != 3 * u * n || c.guard_triangles_size() != 3 * g ||
+      c.body_mean_size() != 3 * u || c.body_components_size() != 3 * u * n ||
+      c.guard_triangles_size() != 3 * g || c.body_triangles_size() % 3 != 0 ||
       c.smoothing_iterations() > clothing::kMaxSmoothingIterations) {
     return absl::InvalidArgumentError(absl::StrCat(
         "clothing basis ", message.id(), " has an inconsistent body correspondence (", v,
@@ -171,6 +173,11 @@ absl::StatusOr<clothing::BodyCorrespondence> BodyCorrespondenceFromProto(
   for (int64_t i = 0; i < 3 * g; ++i) {
     result.guard_triangles(i / 3, i % 3) =
         static_cast<int32_t>(std::min<uint32_t>(c.guard_triangles(i), INT32_MAX));
+  }
+  result.body_triangles.resize(c.body_triangles_size() / 3, 3);
+  for (int i = 0; i < c.body_triangles_size(); ++i) {
+    result.body_triangles(i / 3, i % 3) =
+        static_cast<int32_t>(std::min<uint32_t>(c.body_triangles(i), INT32_MAX));
   }
   result.smoothing_iterations = static_cast<int>(c.smoothing_iterations());
   if (result.smoothing_iterations > 0) {

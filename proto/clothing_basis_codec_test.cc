@@ -1,5 +1,6 @@
 #include "proto/clothing_basis_codec.h"
 
+#include "core/mesh.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -137,7 +138,8 @@ TEST(ClothingBasisCodecTest, RejectsInconsistentMessages) {
               core::StatusIs(absl::StatusCode::kInvalidArgument, "not finite"));
 }
 
-// A 3-vertex garment (one triangle) whose clean-up has a guard and smooths.
+// A 3-vertex garment (one triangle) whose clean-up has a guard, smooths and has the body under
+// it (two triangles).
 v1::ClothingBasis GuardedBasis() {
   clothing::ClothingModel model;
   model.method = clothing::ClothingMethod::kLinear;
@@ -157,6 +159,8 @@ v1::ClothingBasis GuardedBasis() {
   c.guard_triangles.resize(1, 3);
   c.guard_triangles << 0, 2, 1;
   c.smoothing_iterations = 4;
+  c.body_triangles.resize(2, 3);
+  c.body_triangles << 0, 1, 2, 2, 1, 3;
   v1::ClothingBasis message;
   message.set_id("cb2");
   ClothingModelToProto(model, &message);
@@ -174,24 +178,27 @@ TEST(ClothingBasisCodecTest, RoundTripsGuardsAndRebuildsTheNeighboursFromTheFace
   EXPECT_THAT(c->guard_body, ::testing::ElementsAre(3));
   EXPECT_EQ(c->guard_triangles, Eigen::RowVector3i(0, 2, 1));
   EXPECT_EQ(c->smoothing_iterations, 4);
+  EXPECT_EQ(c->body_triangles, (core::Triangles{{0, 1, 2}, {2, 1, 3}}));
   EXPECT_THAT(c->neighbor_offsets, ::testing::ElementsAre(0, 2, 4, 6));
   EXPECT_THAT(c->neighbors, ::testing::ElementsAre(1, 2, 0, 2, 0, 1));
   EXPECT_TRUE(ClothingFitterFromProto(message).ok());
 }
 
-// A basis written before guards and smoothing has neither field: it loads, and its clean-up
-// pushes vertex by vertex as it did.
+// A basis written before guards, smoothing and the body under the garment has none of those
+// fields: it loads, and its clean-up pushes vertex by vertex as it did, asking no body.
 TEST(ClothingBasisCodecTest, LoadsACorrespondenceWithoutGuards) {
   v1::ClothingBasis message = GuardedBasis();
   message.mutable_correspondence()->clear_guard_body();
   message.mutable_correspondence()->clear_guard_triangles();
   message.mutable_correspondence()->clear_smoothing_iterations();
+  message.mutable_correspondence()->clear_body_triangles();
   message.clear_faces();
   const absl::StatusOr<clothing::BodyCorrespondence> c = BodyCorrespondenceFromProto(message);
   ASSERT_TRUE(c.ok()) << c.status();
   EXPECT_TRUE(c->guard_body.empty());
   EXPECT_EQ(c->guard_triangles.rows(), 0);
   EXPECT_EQ(c->smoothing_iterations, 0);
+  EXPECT_EQ(c->body_triangles.rows(), 0);
   EXPECT_TRUE(c->neighbor_offsets.empty());
   EXPECT_TRUE(ClothingFitterFromProto(message).ok());
 }
@@ -211,6 +218,14 @@ TEST(ClothingBasisCodecTest, RejectsBadGuardsAndSmoothing) {
   far_corner.mutable_correspondence()->set_guard_triangles(1, 3);
   EXPECT_THAT(BodyCorrespondenceFromProto(far_corner),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "guard triangle corner"));
+  v1::ClothingBasis short_region = message;
+  short_region.mutable_correspondence()->mutable_body_triangles()->RemoveLast();
+  EXPECT_THAT(BodyCorrespondenceFromProto(short_region),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "inconsistent"));
+  v1::ClothingBasis far_region = message;
+  far_region.mutable_correspondence()->set_body_triangles(4, 4);
+  EXPECT_THAT(BodyCorrespondenceFromProto(far_region),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "body triangle corner outside"));
   v1::ClothingBasis too_smooth = message;
   too_smooth.mutable_correspondence()->set_smoothing_iterations(1u << 31);
   EXPECT_THAT(BodyCorrespondenceFromProto(too_smooth),

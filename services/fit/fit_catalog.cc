@@ -3,6 +3,7 @@
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
 #include "core/vertex_order.h"
+#include "proto/avatar_basis_codec.h"
 #include "proto/clothing_basis_codec.h"
 #include "proto/mesh_codec.h"
 
@@ -117,19 +118,15 @@ absl::StatusOr<std::shared_ptr<const pipeline::LoadedAvatarBasis>> FitCatalog::A
   const absl::Time now = Now();
   if (auto hit = avatar_bases_.Get(id)) return hit->value;
   ASSIGN_OR_RETURN(std::string bytes, store_->GetAvatarBasis(id));
-  v1::AvatarBasis message;
-  if (!message.ParseFromString(bytes)) {
+  auto loaded = std::make_shared<pipeline::LoadedAvatarBasis>();
+  if (!loaded->message.ParseFromString(bytes)) {
     return absl::DataLossError(absl::StrCat("stored avatar basis ", id, " does not parse"));
   }
-  ASSIGN_OR_RETURN(pipeline::LoadedAvatarBasis decoded,
-                   pipeline::AvatarBasisFromMessage(std::move(message)));
-  auto loaded = std::make_shared<const pipeline::LoadedAvatarBasis>(std::move(decoded));
-  // The message (float32), the decomposition (double) and the triangles are all kept.
+  ASSIGN_OR_RETURN(loaded->pca, proto::PcaBasisFromProto(loaded->message));
+  // The message (float32) and the decomposition (double) are both kept.
   avatar_bases_.Put(
       id,
-      {loaded,
-       bytes.size() + sizeof(double) * static_cast<size_t>(loaded->pca.components.size()) +
-           sizeof(int32_t) * static_cast<size_t>(loaded->triangles.size()),
+      {loaded, bytes.size() + sizeof(double) * static_cast<size_t>(loaded->pca.components.size()),
        now});
   return loaded;
 }

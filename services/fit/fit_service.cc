@@ -53,20 +53,14 @@ struct SizeFitted {
   absl::Duration compute;
 };
 
-// A customer's own mesh, checked (OwnBody), with its avatar basis, whose triangles it is in.
-// Empty positions: none, the body of the weights is fitted.
-struct OwnMesh {
-  std::vector<float> positions;  // 3B floats, m, xyz interleaved.
-  std::shared_ptr<const pipeline::LoadedAvatarBasis> basis;
-};
-
-// own_body: the customer's own mesh, or none for the body of the weights.
+// own_body: the customer's own mesh (3B floats, m, checked by OwnBody), or empty for the body
+// of the weights.
 absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view tenant,
                                         const v1::AvatarWeights& weights,
                                         const ServedGarment& garment,
                                         absl::string_view garment_id, absl::string_view size,
                                         absl::string_view method_name, bool cleanup,
-                                        const OwnMesh& own_body,
+                                        std::span<const float> own_body,
                                         Eigen::VectorXf& positions) {
   SizeFitted out;
   if (!method_name.empty()) RETURN_IF_ERROR(clothing::ParseClothingMethod(method_name).status());
@@ -97,23 +91,12 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
                    pipeline::CheckedWeights(
                        weights, out.clothing->fitter.model().component_count, weights.basis_id()));
   const Eigen::VectorXf w = checked.cast<float>();
-  // The clean-up asks the body (the own mesh, else the body of the weights) about its deep
-  // pushes, in the avatar basis's topology.
-  std::shared_ptr<const pipeline::LoadedAvatarBasis> avatar = own_body.basis;
-  if (avatar == nullptr && cleanup) {
-    ASSIGN_OR_RETURN(avatar, catalog.AvatarBasis(garment.avatar_basis_id));
-  }
   thread_local clothing::FitScratch scratch;
   const absl::Time start = absl::Now();
   const clothing::ClothingFitter& fitter = out.clothing->fitter;
-  ASSIGN_OR_RETURN(
-      out.pushed,
-      own_body.positions.empty()
-          ? fitter.Fit(w, cleanup, scratch, positions,
-                       avatar == nullptr ? clothing::AvatarMesh()
-                                         : clothing::AvatarMesh{&avatar->pca, &avatar->triangles})
-          : fitter.FitToBody(w, {.positions = own_body.positions, .triangles = &avatar->triangles},
-                             cleanup, scratch, positions));
+  ASSIGN_OR_RETURN(out.pushed, own_body.empty()
+                                   ? fitter.Fit(w, cleanup, scratch, positions)
+                                   : fitter.FitToBody(w, own_body, cleanup, scratch, positions));
   out.compute = absl::Now() - start;
   return out;
 }
@@ -125,7 +108,7 @@ absl::StatusOr<v1::FittedGarment> FitOne(FitCatalog& catalog, absl::string_view 
                                          absl::string_view garment_id, absl::string_view size,
                                          absl::string_view method_name,
                                          v1::PositionsEncoding encoding, bool with_metrics,
-                                         bool cleanup, const OwnMesh& own_body) {
+                                         bool cleanup, std::span<const float> own_body) {
   thread_local Eigen::VectorXf positions;
   ASSIGN_OR_RETURN(SizeFitted one, FitPositions(catalog, tenant, weights, garment, garment_id,
                                                 size, method_name, cleanup, own_body,
@@ -199,12 +182,13 @@ absl::StatusOr<v1::Avatar> BodyOfWeights(const pipeline::LoadedAvatarBasis& basi
 // held-out bodies and about 8 mm at worst.
 constexpr double kMaxOwnBodyOffset = 0.010;
 
-// The customer's own mesh of a fit request, checked: a valid avatar, and within
-// kMaxOwnBodyOffset of the body of `weights` on the garment's avatar basis. None without one.
-absl::StatusOr<OwnMesh> OwnBody(FitCatalog& catalog, const ServedGarment& garment,
-                                const v1::AvatarWeights& weights, bool has_body,
-                                const v1::Avatar& body) {
-  if (!has_body) return OwnMesh();
+// The customer's own mesh of a fit request, as 3B floats (m), checked: a valid avatar, and
+// within kMaxOwnBodyOffset of the body of `weights` on the garment's avatar basis. Empty
+// without one.
+absl::StatusOr<std::vector<float>> OwnBody(FitCatalog& catalog, const ServedGarment& garment,
+                                           const v1::AvatarWeights& weights, bool has_body,
+                                           const v1::Avatar& body) {
+  if (!has_body) return std::vector<float>();
   ASSIGN_OR_RETURN(const core::Positions own, proto::AvatarPositions(body));
   ASSIGN_OR_RETURN(std::shared_ptr<const pipeline::LoadedAvatarBasis> basis,
                    catalog.AvatarBasis(garment.avatar_basis_id));
@@ -223,7 +207,7 @@ absl::StatusOr<OwnMesh> OwnBody(FitCatalog& catalog, const ServedGarment& garmen
         "(ProjectAvatar)",
         1000 * offset, 1000 * kMaxOwnBodyOffset));
   }
-  return OwnMesh{core::InterleavedFloats(own), std::move(basis)};
+  return core::InterleavedFloats(own);
 }
 
 // How far beyond its example drapes a clothing basis is still trusted, as a multiple of their
@@ -331,7 +315,7 @@ grpc::ServerUnaryReactor* FitService::FitGarment(grpc::CallbackServerContext* co
     ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
                      GarmentForWeights(*catalog_, principal.tenant, request->garment_id(),
                                        request->weights()));
-    ASSIGN_OR_RETURN(const OwnMesh own_body,
+    ASSIGN_OR_RETURN(const std::vector<float> own_body,
                      OwnBody(*catalog_, *garment, request->weights(), request->has_body(),
                              request->body()));
     RETURN_IF_ERROR(CheckAlive(*context));
@@ -356,7 +340,7 @@ grpc::ServerUnaryReactor* FitService::FitOutfit(grpc::CallbackServerContext* con
           options_.max_outfit_items));
     }
     // Decoded and checked once for the outfit: every item's garment is on the weights' basis.
-    std::optional<OwnMesh> own_body;
+    std::optional<std::vector<float>> own_body;
     for (const v1::OutfitItem& item : request->items()) {
       ASSIGN_OR_RETURN(std::shared_ptr<const ServedGarment> garment,
                        GarmentForWeights(*catalog_, principal.tenant, item.garment_id(),
@@ -500,7 +484,7 @@ grpc::ServerUnaryReactor* FitService::AdviseSize(grpc::CallbackServerContext* co
       absl::StatusOr<SizeFitted> fitted =
           FitPositions(*catalog_, principal.tenant, request->weights(), *garment,
                        request->garment_id(), advice.size_names[size], request->method(),
-                       /*cleanup=*/true, /*own_body=*/OwnMesh(), flat);
+                       /*cleanup=*/true, /*own_body=*/{}, flat);
       // Every size: only those with a published clothing basis.
       if (request->sizes().empty() && absl::IsNotFound(fitted.status())) continue;
       if (!fitted.ok()) return fitted.status();
