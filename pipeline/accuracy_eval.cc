@@ -50,10 +50,11 @@ struct RowStats {
   bool cleanup = false;
   std::vector<float> errors_mm;
   // Per held-out avatar, over every garment the row takes in: its vertices' errors summed and
-  // counted, for the standard error of the mean over avatars.
+  // counted, for the standard error of the mean over avatars, and its pixels of visible skin.
   struct AvatarErrors {
     double sum_mm = 0;
     int64_t vertices = 0;
+    SkinVisibility skin;
   };
   std::vector<AvatarErrors> avatars;
   int64_t below_0mm = 0;
@@ -86,8 +87,9 @@ struct RowStats {
     }
   }
 
-  // The fit shown on `fit_body` against the drape `truth` on the held-out avatar's real body.
-  absl::Status AddSkin(const core::Positions& fit, const core::Positions& fit_body,
+  // The fit of held-out avatar `avatar` shown on `fit_body` against the drape `truth` on its
+  // real body.
+  absl::Status AddSkin(size_t avatar, const core::Positions& fit, const core::Positions& fit_body,
                        const core::Positions& truth, const Holdout& holdout,
                        const core::Triangles& body_triangles,
                        const core::Triangles& garment_triangles) {
@@ -96,23 +98,30 @@ struct RowStats {
         MeasureVisibleSkin({&holdout.body, &body_triangles, &truth, &garment_triangles},
                            {&fit_body, &body_triangles, &fit, &garment_triangles}));
     AddSkin(s, s.share(), s.inside_share());
+    if (avatars.size() <= avatar) avatars.resize(avatar + 1);
+    AddPixels(s, avatars[avatar].skin);
     return absl::OkStatus();
   }
 
   void AddSkin(const SkinVisibility& s, double share_max, double inside_max) {
-    skin.cloth_pixels += s.cloth_pixels;
-    skin.skin_pixels += s.skin_pixels;
-    skin.edge_skin_pixels += s.edge_skin_pixels;
+    AddPixels(s, skin);
     skin_share_max = std::max(skin_share_max, share_max);
     inside_share_max = std::max(inside_share_max, inside_max);
   }
 
-  // Another row's per-avatar errors (the same avatars, another garment) added to these.
+  static void AddPixels(const SkinVisibility& from, SkinVisibility& to) {
+    to.cloth_pixels += from.cloth_pixels;
+    to.skin_pixels += from.skin_pixels;
+    to.edge_skin_pixels += from.edge_skin_pixels;
+  }
+
+  // Another row's per-avatar errors and skin (the same avatars, another garment) added to these.
   void AddAvatars(const RowStats& other) {
     if (avatars.size() < other.avatars.size()) avatars.resize(other.avatars.size());
     for (size_t a = 0; a < other.avatars.size(); ++a) {
       avatars[a].sum_mm += other.avatars[a].sum_mm;
       avatars[a].vertices += other.avatars[a].vertices;
+      AddPixels(other.avatars[a].skin, avatars[a].skin);
     }
   }
 
@@ -150,6 +159,11 @@ struct RowStats {
     const std::vector<double> avatar_means = AvatarMeans();
     row.set_error_mean_stderr_mm(StandardError(avatar_means));
     for (const double m : avatar_means) row.add_avatar_error_mean_mm(m);
+    for (const AvatarErrors& a : avatars) {
+      if (a.skin.cloth_pixels == 0) continue;
+      row.add_avatar_visible_skin(a.skin.share());
+      row.add_avatar_visible_skin_inside(a.skin.inside_share());
+    }
     if (!sorted.empty()) {
       row.set_error_p95_mm(sorted[std::min(
           sorted.size() - 1, static_cast<size_t>(0.95 * static_cast<double>(sorted.size())))]);
@@ -336,9 +350,9 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
                        workers::DrapeResultPositions(truths[h], vertex_count));
       const core::Positions fitted = FromFlat(fit);
       row.Add(h, fitted, truth, holdouts[h].surface, edges);
-      RETURN_IF_ERROR(row.AddSkin(
-          fitted, spec.fit_on_own_body ? holdouts[h].body : holdouts[h].weights_body, truth,
-          holdouts[h], body_triangles, garment_triangles));
+      RETURN_IF_ERROR(
+          row.AddSkin(h, fitted, spec.fit_on_own_body ? holdouts[h].body : holdouts[h].weights_body,
+                      truth, holdouts[h], body_triangles, garment_triangles));
     }
     row.fit_micros_sum += MicrosPerCall([&] { (void)fit_one(holdouts[0]); });
     ++row.fit_micros_count;
@@ -366,7 +380,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
         ASSIGN_OR_RETURN(core::Positions truth,
                          workers::DrapeResultPositions(truths[h], vertex_count));
         row.Add(h, positions, truth, holdouts[h].surface, edges);
-        RETURN_IF_ERROR(row.AddSkin(positions, holdouts[h].weights_body, truth, holdouts[h],
+        RETURN_IF_ERROR(row.AddSkin(h, positions, holdouts[h].weights_body, truth, holdouts[h],
                                     body_triangles, garment_triangles));
       }
       row.fit_micros_sum += MicrosPerCall([&] {
@@ -386,7 +400,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
                          workers::DrapeResultPositions(truths[h], vertex_count));
         row.Add(h, fit.positions, truth, holdouts[h].surface, edges);
         // The binding fits the real body, so it is shown on it.
-        RETURN_IF_ERROR(row.AddSkin(fit.positions, holdouts[h].body, truth, holdouts[h],
+        RETURN_IF_ERROR(row.AddSkin(h, fit.positions, holdouts[h].body, truth, holdouts[h],
                                     body_triangles, garment_triangles));
       }
     } else if (row.method == kWeightsDrape) {
@@ -396,7 +410,7 @@ absl::Status EvaluateGarment(const AccuracyEvalSpec& spec, const GarmentDrapes& 
         ASSIGN_OR_RETURN(core::Positions truth,
                          workers::DrapeResultPositions(truths[h], vertex_count));
         row.Add(h, positions, truth, holdouts[h].surface, edges);
-        RETURN_IF_ERROR(row.AddSkin(positions, holdouts[h].weights_body, truth, holdouts[h],
+        RETURN_IF_ERROR(row.AddSkin(h, positions, holdouts[h].weights_body, truth, holdouts[h],
                                     body_triangles, garment_triangles));
         row.fit_micros_sum += 1e6 * on_weights_bodies[h].report().seconds();
         ++row.fit_micros_count;

@@ -298,6 +298,15 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
     EXPECT_LE(row.visible_skin_inside(), row.visible_skin()) << row.method();
     EXPECT_LE(row.visible_skin_inside(), row.visible_skin_inside_max()) << row.method();
     EXPECT_LE(row.visible_skin_inside_max(), row.visible_skin_max()) << row.method();
+    // Each avatar's own share, the worst of which is the max (one garment here).
+    ASSERT_EQ(row.avatar_visible_skin_size(), 2) << row.method();
+    ASSERT_EQ(row.avatar_visible_skin_inside_size(), 2) << row.method();
+    EXPECT_DOUBLE_EQ(std::max(row.avatar_visible_skin(0), row.avatar_visible_skin(1)),
+                     row.visible_skin_max())
+        << row.method();
+    for (int a = 0; a < 2; ++a) {
+      EXPECT_LE(row.avatar_visible_skin_inside(a), row.avatar_visible_skin(a)) << row.method();
+    }
     // An edge vertex's retreat is part of its move from the drape.
     EXPECT_TRUE(std::isfinite(row.edge_retreat_mean_mm())) << row.method();
     EXPECT_LE(std::abs(row.edge_retreat_mean_mm()), row.error_max_mm()) << row.method();
