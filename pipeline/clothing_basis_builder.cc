@@ -15,8 +15,9 @@ namespace {
 
 // Part of every clothing basis id: a basis assembled by other code (another model or clean-up)
 // from the same drapes is other bytes, so it must have another id. Version 2: the kernel
-// method and the clean-up's triangle guards.
-constexpr absl::string_view kAssemblyVersion = "clothing-basis-2";
+// method and the clean-up's triangle guards. Version 3: the body under the garment
+// (BodyCorrespondence::body_triangles), which the clean-up's deep pushes ask.
+constexpr absl::string_view kAssemblyVersion = "clothing-basis-3";
 
 }  // namespace
 
