@@ -212,6 +212,10 @@ absl::StatusOr<const core::TriangleBvh*> CurrentBodyTree(const BodyCorrespondenc
   positions = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
                   body.data(), body.size() / 3, 3)
                   .cast<double>();
+  // Finite weights can still overflow the body of the weights, far outside any body.
+  if (!positions.allFinite()) {
+    return absl::InvalidArgumentError("a body point under the garment is not finite");
+  }
   const core::Triangles& triangles = correspondence.body_triangles;
   if (tree && tree->positions().rows() == positions.rows() &&
       tree->triangles().rows() == triangles.rows() &&
@@ -559,11 +563,11 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
   }
 }
 
-int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& weights,
-                      CleanupScratch& scratch, float* positions) {
+absl::StatusOr<int64_t> PushOutOfBody(const BodyCorrespondence& correspondence,
+                                      const Eigen::VectorXf& weights, CleanupScratch& scratch,
+                                      float* positions) {
   BodyPointsOfWeights(correspondence, weights, scratch.body);
-  // The body points of finite weights are finite: the tree's build cannot fail.
-  return *PushOutOfBodyPoints(correspondence, scratch.body, {}, scratch, positions);
+  return PushOutOfBodyPoints(correspondence, scratch.body, {}, scratch, positions);
 }
 
 absl::StatusOr<int64_t> PushOutOfBodyPoints(const BodyCorrespondence& correspondence,

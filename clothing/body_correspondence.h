@@ -183,12 +183,15 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
                 const Eigen::VectorXf& body, CleanupScratch& scratch, float* positions);
 
 // positions: 3V floats (m), xyz interleaved, moved in place; weights: N, checked by the
-// caller; correspondence: validated. Clears the body of the weights. Returns how many vertices
-// moved. No search and no iteration to convergence: the cost is bounded by V, K, G, U, N, the
-// rounds and the neighbour count (the smoothing visits only vertices its rounds carry a push
-// to, at most all of them).
-int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf& weights,
-                      CleanupScratch& scratch, float* positions);
+// caller; correspondence: validated. Clears the body of the weights (PushOutOfBodyPoints).
+// Returns how many vertices moved. No iteration to convergence: the cost is bounded by V, K,
+// G, U, N, the rounds and the neighbour count (the smoothing visits only vertices its rounds
+// carry a push to, at most all of them), plus, in a fit with deep pushes, one refit of the
+// tree of the body under the garment and one search of it per deep push. InvalidArgument for
+// weights so far outside any body that a body point overflows, found when a push is deep.
+absl::StatusOr<int64_t> PushOutOfBody(const BodyCorrespondence& correspondence,
+                                      const Eigen::VectorXf& weights, CleanupScratch& scratch,
+                                      float* positions);
 
 // As PushOutOfBody, clearing the body given by its U points (3U floats, m: from
 // BodyPointsOfWeights or GatherBodyPoints). anchor_rows: empty, or V rows of `corners`, the
@@ -211,9 +214,9 @@ int64_t PushOutOfBody(const BodyCorrespondence& correspondence, const Eigen::Vec
 // Body parts no anchor lies on (a head above a pair of trousers) are not asked: the points
 // carry no others, and the region's tree costs a fraction of the whole body's (on
 // male_worksuit01 M, a fit from the weights with 58 deep pushes took 826 us with the whole
-// body of the weights made from the avatar basis, about 250 us with its region; 205 us without
-// deep pushes). The tree is built (or refitted) once per clean-up that has such a vertex, none
-// otherwise. InvalidArgument from the tree's build only (a body point that is not finite).
+// body of the weights made from the avatar basis, 246 us with its region; 198 us at a body
+// with none). The tree is built (or refitted) once per clean-up that has such a vertex, none
+// otherwise. InvalidArgument for a body point under the garment that is not finite.
 absl::StatusOr<int64_t> PushOutOfBodyPoints(const BodyCorrespondence& correspondence,
                                             const Eigen::VectorXf& body,
                                             std::span<const int32_t> anchor_rows,

@@ -57,7 +57,7 @@ TEST(BodyCorrespondenceTest, PushesOutOnlyTheVerticesTheCustomerBodyReaches) {
   lift << static_cast<float>(0.02 * std::sqrt(8.0));  // The body rises by 2 cm.
   Eigen::VectorXf positions = Eigen::Map<const Eigen::VectorXd>(garment.data(), 6).cast<float>();
   CleanupScratch scratch;
-  EXPECT_EQ(PushOutOfBody(correspondence, lift, scratch, positions.data()), 1);
+  EXPECT_EQ(*PushOutOfBody(correspondence, lift, scratch, positions.data()), 1);
   EXPECT_NEAR(positions(1), 0.5 + 0.02 + 0.0025, 1e-6);
   EXPECT_NEAR(positions(0), 0.1, 1e-7);
   EXPECT_NEAR(positions(2), 0.2, 1e-7);
@@ -65,7 +65,7 @@ TEST(BodyCorrespondenceTest, PushesOutOnlyTheVerticesTheCustomerBodyReaches) {
 
   // At the mean body nothing is inside: the fit is left as it is.
   positions = Eigen::Map<const Eigen::VectorXd>(garment.data(), 6).cast<float>();
-  EXPECT_EQ(PushOutOfBody(correspondence, Eigen::VectorXf::Zero(1), scratch, positions.data()), 0);
+  EXPECT_EQ(*PushOutOfBody(correspondence, Eigen::VectorXf::Zero(1), scratch, positions.data()), 0);
 }
 
 // At the mean the vertex sits beside the +x face; in an example with the body lowered by 0.4 m
@@ -87,7 +87,7 @@ Eigen::VectorXf CleanUpOnTheLoweredCustomer(const BodyCorrespondence& correspond
   CleanupScratch scratch;
   const Eigen::VectorXf customer =
       Eigen::VectorXf::Constant(1, static_cast<float>(-0.395 * std::sqrt(8.0)));
-  EXPECT_EQ(PushOutOfBody(correspondence, customer, scratch, positions.data()), 1);
+  EXPECT_EQ(*PushOutOfBody(correspondence, customer, scratch, positions.data()), 1);
   return positions;
 }
 
@@ -221,6 +221,22 @@ TEST_F(DeepPushTest, AsksTheBodyUnderTheGarment) {
   // 2 cm behind the plane is not deep: the body is not asked.
   EXPECT_NEAR(clean(Eigen::Vector3f(0.48f, 0.2f, 0.0f)).x(), 0.5 + 0.0025, 1e-6);
   EXPECT_EQ(scratch.deep_checks, 0);
+}
+
+// Weights far outside any body overflow its points; a deep push then finds the body under the
+// garment not finite and the clean-up says so rather than searching it. Without a deep push
+// nothing is searched.
+TEST_F(DeepPushTest, RefusesABodyThatIsNotFinite) {
+  Eigen::VectorXf overflowed = body_;
+  overflowed(0) = std::numeric_limits<float>::infinity();  // Vertex 0, not of row 0's triangle.
+  CleanupScratch scratch;
+  Eigen::VectorXf positions = Eigen::Vector3f(-0.6f, -0.4f, 0.0f);
+  EXPECT_THAT(
+      PushOutOfBodyPoints(correspondence_, overflowed, plus_x_, scratch, positions.data()),
+      StatusIs(absl::StatusCode::kInvalidArgument, "body point under the garment is not finite"));
+  positions = Eigen::Vector3f(0.48f, 0.2f, 0.0f);
+  EXPECT_TRUE(
+      PushOutOfBodyPoints(correspondence_, overflowed, plus_x_, scratch, positions.data()).ok());
 }
 
 // Only the body under the garment is asked. The sliding vertex's own correspondence, as built,
@@ -375,10 +391,10 @@ TEST(BodyCorrespondenceTest, GuardLiftsATriangleOffABumpBetweenItsCorners) {
   Eigen::VectorXf positions = fit;
   const BodyCorrespondence unguarded = *BuildBodyCorrespondence(
       examples, tent.basis, tent.triangles, core::Triangles(), 0.0025, 1);
-  EXPECT_EQ(PushOutOfBody(unguarded, bump, scratch, positions.data()), 0);
+  EXPECT_EQ(*PushOutOfBody(unguarded, bump, scratch, positions.data()), 0);
   EXPECT_EQ(positions, fit);
 
-  EXPECT_EQ(PushOutOfBody(guarded, bump, scratch, positions.data()), 3);
+  EXPECT_EQ(*PushOutOfBody(guarded, bump, scratch, positions.data()), 3);
   // At least the offset over the bump; the smoothing keeps each corner's share of the push, so
   // the triangle may rise a little more.
   EXPECT_GE(HeightAtCentre(positions), 0.02 + 0.0025 - 1e-6);
@@ -389,7 +405,7 @@ TEST(BodyCorrespondenceTest, GuardLiftsATriangleOffABumpBetweenItsCorners) {
   }
   // Warm scratch, body back flat: nothing inside, nothing moves.
   positions = fit;
-  EXPECT_EQ(PushOutOfBody(guarded, Eigen::VectorXf::Zero(1), scratch, positions.data()), 0);
+  EXPECT_EQ(*PushOutOfBody(guarded, Eigen::VectorXf::Zero(1), scratch, positions.data()), 0);
   EXPECT_EQ(positions, fit);
 }
 
@@ -417,14 +433,14 @@ TEST(BodyCorrespondenceTest, SmoothingFadesAPushOverTheNeighbours) {
 
   Eigen::VectorXf spike = fit;
   ASSERT_TRUE(ValidateBodyCorrespondence(c, 10, 1).ok());
-  EXPECT_EQ(PushOutOfBody(c, w, scratch, spike.data()), 1);
+  EXPECT_EQ(*PushOutOfBody(c, w, scratch, spike.data()), 1);
   EXPECT_NEAR(spike(3 * 2 + 1), 0.0025, 1e-7);
 
   ASSERT_TRUE(SetGarmentNeighbors(strip, c).ok());
   c.smoothing_iterations = 4;
   ASSERT_TRUE(ValidateBodyCorrespondence(c, 10, 1).ok());
   Eigen::VectorXf smooth = fit;
-  EXPECT_EQ(PushOutOfBody(c, w, scratch, smooth.data()), 10);
+  EXPECT_EQ(*PushOutOfBody(c, w, scratch, smooth.data()), 10);
   const Eigen::VectorXf lift = smooth - fit;
   EXPECT_NEAR(smooth(3 * 2 + 1), 0.0025, 1e-6);
   for (int v : {1, 3, 6, 7}) {  // The pushed vertex's neighbours.
@@ -436,7 +452,7 @@ TEST(BodyCorrespondenceTest, SmoothingFadesAPushOverTheNeighbours) {
   EXPECT_LT(lift(3 * 9 + 1), lift(3 * 8 + 1));
   // A second fit from the same scratch gives the same bytes.
   Eigen::VectorXf again = fit;
-  PushOutOfBody(c, w, scratch, again.data());
+  ASSERT_TRUE(PushOutOfBody(c, w, scratch, again.data()).ok());
   EXPECT_EQ(again, smooth);
 }
 

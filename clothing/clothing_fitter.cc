@@ -16,7 +16,8 @@ absl::StatusOr<int64_t> ClothingFitter::Fit(const Eigen::VectorXf& weights, bool
                                             FitScratch& scratch, Eigen::VectorXf& out) const {
   RETURN_IF_ERROR(CheckFitWeights(model_, weights));
   FitClothing(model_, weights, scratch.features, out);
-  return cleanup ? PushOutOfBody(correspondence_, weights, scratch.cleanup, out.data()) : 0;
+  if (!cleanup) return 0;
+  return PushOutOfBody(correspondence_, weights, scratch.cleanup, out.data());
 }
 
 absl::StatusOr<int64_t> ClothingFitter::FitToBody(const Eigen::VectorXf& weights,
