@@ -70,7 +70,8 @@ echo "== stack: coordinator $coordinator, fit service $fit, page $page (logs: $o
 
 declare -A garment_of=([women]=female_casualsuit01 [men]=male_casualsuit02)
 # The shop serves the kernel model, trained here on fewer sampled drapes per size than the
-# recommended 200 (README, "Clothing bases and the online fit") to keep the demo short.
+# recommended 400, or 200 where drapes are dear (README, "Clothing bases and the online fit"),
+# to keep the demo short.
 demo_samples=24
 # For size advice: a jersey T-shirt over leggings, and a woven shirt over trousers.
 declare -A type_of=([women]=knit [men]=shirt)
