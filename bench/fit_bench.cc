@@ -285,7 +285,7 @@ std::optional<Eigen::VectorXf> ReadWeights(int components) {
 // Arg 0: the model alone; 1: with the clean-up; 2: the clean-up without its triangle guards;
 // 3: the clean-up without smoothing; 4: with the clean-up, fitted to a mesh given with the
 // weights (FitToBody), here the body of the weights 1 mm higher; 5: fitted to --avatar's mesh
-// at --weights; 6: fitted from --weights alone, with --avatar's topology.
+// at --weights; 6: fitted from --weights alone.
 void BM_FitStoredBasis(benchmark::State& state) {
   v1::ClothingBasis message;
   if (!proto::ReadMessageFile(g_clothing_path, &message).ok()) {

@@ -1,7 +1,11 @@
 #include "proto/clothing_basis_codec.h"
 
+#include <algorithm>
+#include <cstdint>
+
 #include "absl/strings/str_cat.h"
 #include "core/kernel_ridge.h"
+#include "core/mesh.h"
 #include "core/status_macros.h"
 #include "proto/garment_codec.h"
 #include "proto/mesh_codec.h"
@@ -25,6 +29,16 @@ absl::StatusOr<v1::Mesh> FacesAtMean(const v1::ClothingBasis& message) {
   v1::Mesh mesh = message.faces();
   *mesh.mutable_positions() = message.mean();
   return mesh;
+}
+
+// Stored indices (a multiple of 3 of them, checked by the caller) as rows of three. Values past
+// INT32_MAX become INT32_MAX, which the correspondence's validation then refuses as out of range.
+core::Triangles IndexRows(const google::protobuf::RepeatedField<uint32_t>& indices) {
+  core::Triangles rows(indices.size() / 3, 3);
+  for (int i = 0; i < indices.size(); ++i) {
+    rows(i / 3, i % 3) = static_cast<int32_t>(std::min<uint32_t>(indices[i], INT32_MAX));
+  }
+  return rows;
 }
 
 }  // namespace
@@ -159,26 +173,15 @@ absl::StatusOr<clothing::BodyCorrespondence> BodyCorrespondenceFromProto(
   result.body_vertices.assign(c.body_vertices().begin(), c.body_vertices().end());
   result.body_mean = Eigen::Map<const Eigen::VectorXf>(c.body_mean().data(), 3 * u);
   result.body_components = Eigen::Map<const Eigen::MatrixXf>(c.body_components().data(), 3 * u, n);
-  result.corners.resize(v * k, 3);
-  for (int64_t i = 0; i < 3 * v * k; ++i) {
-    result.corners(i / 3, i % 3) = static_cast<int32_t>(std::min<uint32_t>(c.corners(i), INT32_MAX));
-  }
+  result.corners = IndexRows(c.corners());
   result.barycentric =
       Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
           c.barycentric().data(), v * k, 3);
   for (uint32_t b : c.guard_body()) {
     result.guard_body.push_back(static_cast<int32_t>(std::min<uint32_t>(b, INT32_MAX)));
   }
-  result.guard_triangles.resize(g, 3);
-  for (int64_t i = 0; i < 3 * g; ++i) {
-    result.guard_triangles(i / 3, i % 3) =
-        static_cast<int32_t>(std::min<uint32_t>(c.guard_triangles(i), INT32_MAX));
-  }
-  result.body_triangles.resize(c.body_triangles_size() / 3, 3);
-  for (int i = 0; i < c.body_triangles_size(); ++i) {
-    result.body_triangles(i / 3, i % 3) =
-        static_cast<int32_t>(std::min<uint32_t>(c.body_triangles(i), INT32_MAX));
-  }
+  result.guard_triangles = IndexRows(c.guard_triangles());
+  result.body_triangles = IndexRows(c.body_triangles());
   result.smoothing_iterations = static_cast<int>(c.smoothing_iterations());
   if (result.smoothing_iterations > 0) {
     // The smoothing runs over the garment's edges, which its faces give.
