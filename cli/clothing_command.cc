@@ -75,11 +75,13 @@ absl::Status RunClothingBuild(const ClothingFlags& flags) {
   if (clothing.has_kernel()) {
     const v1::KernelCorrection& k = clothing.kernel();
     std::cout << absl::StrFormat(
-        "kernel correction: %d outputs over %d bodies (%s kernel, %s scaling, ridge %g); RMS "
-        "miss per vertex on them %.2f mm linear, %.2f mm corrected (each body left out)\n",
+        "kernel correction: %d outputs over %d bodies (%s kernel, %s scaling, ridge %g) of a "
+        "linear part from %s; RMS miss per vertex on them %.2f mm linear, %.2f mm corrected "
+        "(each body left out)\n",
         k.output_count(), k.center_count(),
         core::KernelShapeName(static_cast<core::KernelShape>(k.shape())), k.input_scaling(),
-        k.ridge(), k.linear_rms_mm(), k.loo_rms_mm());
+        k.ridge(), k.linear_part().empty() ? "axis" : k.linear_part(), k.linear_rms_mm(),
+        k.loo_rms_mm());
   }
   std::cout << "wrote " << flags.out << "\n";
   return absl::OkStatus();

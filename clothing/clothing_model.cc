@@ -5,6 +5,7 @@
 #include <string>
 #include <utility>
 
+#include "Eigen/Cholesky"
 #include "Eigen/Eigenvalues"
 #include "absl/strings/str_cat.h"
 #include "core/kernel_ridge.h"
@@ -216,6 +217,15 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
   Eigen::MatrixXd misses(d, m);
   misses.leftCols(examples) = drapes;
   misses.rightCols(sampled) = samples.drapes;
+  const bool least_squares = m >= kLeastSquaresBodiesPerComponent * n;
+  if (least_squares) {
+    // The mean and the N slopes that miss the training drapes least: (F F^T) B^T = F Y^T, F the
+    // (1 + N) x M features, Y the D x M drapes. The axis examples alone span every component
+    // (at +-s sigma_k, sigma_k > 0), so the (1 + N) x (1 + N) F F^T is positive definite.
+    const Eigen::LLT<Eigen::MatrixXd> normal(features * features.transpose());
+    model.basis.leftCols(1 + n) =
+        normal.solve(features * misses.transpose()).transpose().cast<float>();
+  }
   misses.noalias() -= model.basis.cast<double>() * features;
 
   // The misses' principal directions, from the M x M Gram matrix (M is far below D).
@@ -244,6 +254,7 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
     response_scale(k) = model.basis.col(1 + k).cast<double>().norm() / std::sqrt(vertices);
   }
   KernelBuildReport chosen;
+  chosen.linear_part = least_squares ? "least-squares" : "axis";
   chosen.outputs = outputs;
   chosen.kept_energy = total > 0 ? kept / total : 1.0;
   chosen.linear_rms_mm = 1000 * linear_rms;

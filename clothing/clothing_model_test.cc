@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "Eigen/QR"
 #include "core/random.h"
 #include "core/test_support.h"
 #include "gmock/gmock.h"
@@ -223,7 +224,7 @@ TEST(KernelClothingModelTest, LearnsWhatTheLinearModelMissesOnNewBodies) {
   const Eigen::VectorXf reach =  // In units of sigma.
       kernel.kernel.input_scale.cwiseProduct(design.sigmas.cast<float>()).cwiseInverse();
   EXPECT_GT(reach.tail<2>().minCoeff(), 10 * reach.head<2>().maxCoeff()) << reach.transpose();
-  // At the mean body the linear model is exact and the correction adds next to nothing.
+  // The mean body is a training body, and the fit there is its drape (the axis model's mean).
   EXPECT_LT((Fit(kernel, Eigen::VectorXd::Zero(kComponents)) - linear.mean()).cwiseAbs().maxCoeff(),
             2e-4);
 }
@@ -261,6 +262,43 @@ TEST(KernelClothingModelTest, ChoosesTheKernelShapeOfTheLowerLeaveOneOutError) {
                                         Eigen::MatrixXd::Zero(3 * kVertices, 3)},
                                        {.shapes = {}}, nullptr),
               StatusIs(absl::StatusCode::kInvalidArgument, "no kernel shape"));
+}
+
+// The axis examples and the samples of KernelModel, and the least-squares linear model over
+// them: (1 + N) x D, the mean first.
+Eigen::MatrixXd LeastSquaresLinearPart(const ExampleDesign& design, int sample_count) {
+  const int examples = design.example_count();
+  Eigen::MatrixXd weights(kComponents, examples + sample_count);
+  for (int e = 0; e < examples; ++e) weights.col(e) = design.Weights(e);
+  weights.rightCols(sample_count) = SampleWeights(design, sample_count, 1);
+  Eigen::MatrixXd features(weights.cols(), 1 + kComponents);
+  features.col(0).setOnes();
+  features.rightCols(kComponents) = weights.transpose();
+  return features.colPivHouseholderQr().solve(SmoothDrape(design, weights).transpose());
+}
+
+TEST(KernelClothingModelTest, FitsTheLinearPartToEveryTrainingBodyWhenThereAreEnough) {
+  const ExampleDesign design = Design();
+  // 9 axis examples and 120 samples: at least kLeastSquaresBodiesPerComponent per component.
+  KernelBuildReport report;
+  const ClothingModel kernel = KernelModel(design, &report);
+  EXPECT_EQ(report.linear_part, "least-squares");
+  const Eigen::MatrixXd expected = LeastSquaresLinearPart(design, 120).transpose();
+  EXPECT_LT(
+      (kernel.basis.leftCols(1 + kComponents).cast<double>() - expected).cwiseAbs().maxCoeff(),
+      1e-6);
+  // Not the axis examples' model: SmoothDrape's bulge (the square of component 1) lifts the
+  // mean of the population's drapes above the mean body's drape.
+  Eigen::MatrixXd examples(kComponents, design.example_count());
+  for (int e = 0; e < design.example_count(); ++e) examples.col(e) = design.Weights(e);
+  const ClothingModel axis =
+      *BuildClothingModel(ClothingMethod::kLinear, design, SmoothDrape(design, examples));
+  EXPECT_GT((kernel.basis.col(0) - axis.basis.col(0)).cwiseAbs().maxCoeff(), 1e-3);
+
+  // 9 axis examples and 20 samples: too few to fit 1 + N coefficients well; the axis model.
+  const ClothingModel few = KernelModel(design, &report, 20);
+  EXPECT_EQ(report.linear_part, "axis");
+  EXPECT_EQ(few.basis.leftCols(1 + kComponents), axis.basis);
 }
 
 TEST(KernelClothingModelTest, KeepsOneLengthScaleWithFewTrainingBodies) {

@@ -16,8 +16,9 @@ namespace {
 // Part of every clothing basis id: a basis assembled by other code (another model or clean-up)
 // from the same drapes is other bytes, so it must have another id. Version 2: the kernel
 // method and the clean-up's triangle guards. Version 3: the body under the garment
-// (BodyCorrespondence::body_triangles), which the clean-up's deep pushes ask.
-constexpr absl::string_view kAssemblyVersion = "clothing-basis-3";
+// (BodyCorrespondence::body_triangles), which the clean-up's deep pushes ask. Version 4: the
+// kernel's linear part fitted by least squares with enough training bodies.
+constexpr absl::string_view kAssemblyVersion = "clothing-basis-4";
 
 }  // namespace
 
@@ -159,6 +160,7 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
     provenance->set_sample_seed(spec.sample_seed);
     v1::KernelCorrection* k = message.mutable_kernel();
     k->set_input_scaling(kernel_report.input_scaling);
+    k->set_linear_part(kernel_report.linear_part);
     k->set_ridge(kernel_report.ridge);
     k->set_linear_rms_mm(kernel_report.linear_rms_mm);
     k->set_loo_rms_mm(kernel_report.loo_rms_mm);

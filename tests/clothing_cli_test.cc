@@ -147,6 +147,9 @@ TEST_F(ClothingCliTest, KernelLearnsFromSampledDrapes) {
   EXPECT_GE(kernel.kernel().output_count(), 1u);
   EXPECT_EQ(kernel.kernel().center_count(), 11u);
   EXPECT_LE(kernel.kernel().loo_rms_mm(), kernel.kernel().linear_rms_mm() * 1.0001);
+  // 11 bodies for 2 components: too few to fit the linear part (kLeastSquaresBodiesPerComponent).
+  EXPECT_EQ(kernel.kernel().linear_part(), "axis");
+  EXPECT_THAT(build.out, HasSubstr("of a linear part from axis"));
   // On the bodies it learned from, ridge regression only shrinks what the linear model misses.
   double kernel_miss = 0, linear_miss = 0;
   for (int e = 5; e < 11; ++e) {
