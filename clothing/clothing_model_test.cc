@@ -187,15 +187,26 @@ double RmsError(const ClothingModel& model, const ExampleDesign& design,
   return std::sqrt(squared / static_cast<double>(weights.cols() * kVertices));
 }
 
+// The axis examples' weights: N x (2N + 1), in ExampleDesign order.
+Eigen::MatrixXd AxisWeights(const ExampleDesign& design) {
+  Eigen::MatrixXd weights(kComponents, design.example_count());
+  for (int e = 0; e < design.example_count(); ++e) weights.col(e) = design.Weights(e);
+  return weights;
+}
+
+// `linear` on SmoothDrape's axis examples.
+ClothingModel AxisLinearModel(const ExampleDesign& design) {
+  return *BuildClothingModel(ClothingMethod::kLinear, design,
+                             SmoothDrape(design, AxisWeights(design)));
+}
+
 ClothingModel KernelModel(const ExampleDesign& design, KernelBuildReport* report,
                           int sample_count = 120, const KernelBuildOptions& options = {}) {
-  Eigen::MatrixXd examples(kComponents, design.example_count());
-  for (int e = 0; e < design.example_count(); ++e) examples.col(e) = design.Weights(e);
   SampledDrapes samples;
   samples.weights = SampleWeights(design, sample_count, 1);
   samples.drapes = SmoothDrape(design, samples.weights);
   absl::StatusOr<ClothingModel> model = BuildKernelClothingModel(
-      design, SmoothDrape(design, examples), samples, options, report);
+      design, SmoothDrape(design, AxisWeights(design)), samples, options, report);
   EXPECT_TRUE(model.ok()) << model.status();
   return *std::move(model);
 }
@@ -205,10 +216,7 @@ TEST(KernelClothingModelTest, LearnsWhatTheLinearModelMissesOnNewBodies) {
   KernelBuildReport report;
   const ClothingModel kernel = KernelModel(design, &report);
   EXPECT_TRUE(ValidateClothingModel(kernel).ok());
-  Eigen::MatrixXd examples(kComponents, design.example_count());
-  for (int e = 0; e < design.example_count(); ++e) examples.col(e) = design.Weights(e);
-  const ClothingModel linear =
-      *BuildClothingModel(ClothingMethod::kLinear, design, SmoothDrape(design, examples));
+  const ClothingModel linear = AxisLinearModel(design);
   const Eigen::MatrixXd held_out = SampleWeights(design, 40, 2);
   const double linear_error = RmsError(linear, design, held_out);
   const double kernel_error = RmsError(kernel, design, held_out);
@@ -267,10 +275,8 @@ TEST(KernelClothingModelTest, ChoosesTheKernelShapeOfTheLowerLeaveOneOutError) {
 // The axis examples and the samples of KernelModel, and the least-squares linear model over
 // them: (1 + N) x D, the mean first.
 Eigen::MatrixXd LeastSquaresLinearPart(const ExampleDesign& design, int sample_count) {
-  const int examples = design.example_count();
-  Eigen::MatrixXd weights(kComponents, examples + sample_count);
-  for (int e = 0; e < examples; ++e) weights.col(e) = design.Weights(e);
-  weights.rightCols(sample_count) = SampleWeights(design, sample_count, 1);
+  Eigen::MatrixXd weights(kComponents, design.example_count() + sample_count);
+  weights << AxisWeights(design), SampleWeights(design, sample_count, 1);
   Eigen::MatrixXd features(weights.cols(), 1 + kComponents);
   features.col(0).setOnes();
   features.rightCols(kComponents) = weights.transpose();
@@ -289,10 +295,7 @@ TEST(KernelClothingModelTest, FitsTheLinearPartToEveryTrainingBodyWhenThereAreEn
       1e-6);
   // Not the axis examples' model: SmoothDrape's bulge (the square of component 1) lifts the
   // mean of the population's drapes above the mean body's drape.
-  Eigen::MatrixXd examples(kComponents, design.example_count());
-  for (int e = 0; e < design.example_count(); ++e) examples.col(e) = design.Weights(e);
-  const ClothingModel axis =
-      *BuildClothingModel(ClothingMethod::kLinear, design, SmoothDrape(design, examples));
+  const ClothingModel axis = AxisLinearModel(design);
   EXPECT_GT((kernel.basis.col(0) - axis.basis.col(0)).cwiseAbs().maxCoeff(), 1e-3);
 
   // 9 axis examples and 20 samples: too few to fit 1 + N coefficients well; the axis model.

@@ -31,13 +31,16 @@ absl::StatusOr<v1::Mesh> FacesAtMean(const v1::ClothingBasis& message) {
   return mesh;
 }
 
-// Stored indices (a multiple of 3 of them, checked by the caller) as rows of three. Values past
-// INT32_MAX become INT32_MAX, which the correspondence's validation then refuses as out of range.
+// A stored index. Values past INT32_MAX become INT32_MAX, which the correspondence's
+// validation then refuses as out of range.
+int32_t ClampedIndex(uint32_t index) {
+  return static_cast<int32_t>(std::min<uint32_t>(index, INT32_MAX));
+}
+
+// Stored indices (a multiple of 3 of them, checked by the caller) as rows of three.
 core::Triangles IndexRows(const google::protobuf::RepeatedField<uint32_t>& indices) {
   core::Triangles rows(indices.size() / 3, 3);
-  for (int i = 0; i < indices.size(); ++i) {
-    rows(i / 3, i % 3) = static_cast<int32_t>(std::min<uint32_t>(indices[i], INT32_MAX));
-  }
+  for (int i = 0; i < indices.size(); ++i) rows(i / 3, i % 3) = ClampedIndex(indices[i]);
   return rows;
 }
 
@@ -177,9 +180,7 @@ absl::StatusOr<clothing::BodyCorrespondence> BodyCorrespondenceFromProto(
   result.barycentric =
       Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
           c.barycentric().data(), v * k, 3);
-  for (uint32_t b : c.guard_body()) {
-    result.guard_body.push_back(static_cast<int32_t>(std::min<uint32_t>(b, INT32_MAX)));
-  }
+  for (uint32_t b : c.guard_body()) result.guard_body.push_back(ClampedIndex(b));
   result.guard_triangles = IndexRows(c.guard_triangles());
   result.body_triangles = IndexRows(c.body_triangles());
   result.smoothing_iterations = static_cast<int>(c.smoothing_iterations());
