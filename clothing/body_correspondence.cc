@@ -145,6 +145,24 @@ void PadBodyPoints(const Eigen::VectorXf& points, Eigen::VectorXf& body4) {
   for (Eigen::Index i = 0; i < u; ++i) body4.segment<3>(4 * i) = points.segment<3>(3 * i);
 }
 
+// One Jacobi round of averaging a field of 4-float points over the garment's edges: each of
+// the V vertices' points in `to` becomes the mean of its own and its neighbours' in `from`.
+// Every vertex in index order, reading what the previous round wrote: no vertex waits for
+// another's new value, as in a Gauss-Seidel sweep, so a round runs at the speed of the loads.
+void AverageOverNeighbors(const BodyCorrespondence& correspondence, const float* from, float* to) {
+  const int32_t* offsets = correspondence.neighbor_offsets.data();
+  const int32_t* neighbors = correspondence.neighbors.data();
+  const Eigen::Index vertex_count = correspondence.vertex_count();
+  for (Eigen::Index v = 0; v < vertex_count; ++v) {
+    F4 sum = LoadF4(from + 4 * v);
+    for (int32_t n = offsets[v]; n < offsets[v + 1]; ++n) {
+      sum += LoadF4(from + 4 * static_cast<Eigen::Index>(neighbors[n]));
+    }
+    const F4 mean = sum / static_cast<float>(1 + offsets[v + 1] - offsets[v]);
+    std::memcpy(to + 4 * v, &mean, sizeof(mean));
+  }
+}
+
 // The row of garment vertex v's anchor nearest g among its K, on the padded body points.
 Eigen::Index NearestAnchor(const BodyCorrespondence& correspondence, const float* body4,
                            const F4& g, Eigen::Index v) {
@@ -542,20 +560,11 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
   }
   // Jacobi rounds of averaging over each vertex's garment neighbours: cloth bridges the
   // body's fine detail, which the projection leaves out too.
-  const std::vector<int32_t>& offsets = correspondence.neighbor_offsets;
-  const std::vector<int32_t>& neighbors = correspondence.neighbors;
   Eigen::VectorXf& next = scratch.follow_next;
-  for (int round = 0; round < kFollowSmoothingIterations && !offsets.empty(); ++round) {
+  for (int round = 0;
+       round < kFollowSmoothingIterations && !correspondence.neighbor_offsets.empty(); ++round) {
     next.resize(field.size());
-    const float* from = field.data();
-    for (Eigen::Index v = 0; v < vertex_count; ++v) {
-      F4 sum = LoadF4(from + 4 * v);
-      for (int32_t n = offsets[v]; n < offsets[v + 1]; ++n) {
-        sum += LoadF4(from + 4 * static_cast<Eigen::Index>(neighbors[n]));
-      }
-      const F4 mean = sum / static_cast<float>(1 + offsets[v + 1] - offsets[v]);
-      std::memcpy(next.data() + 4 * v, &mean, sizeof(mean));
-    }
+    AverageOverNeighbors(correspondence, field.data(), next.data());
     field.swap(next);
   }
   for (Eigen::Index v = 0; v < vertex_count; ++v) {
@@ -674,80 +683,65 @@ absl::StatusOr<int64_t> PushOutOfBodyPoints(const BodyCorrespondence& correspond
   }
   if (requests.empty()) return 0;
 
-  // The field is zero outside `active`: the requests' corners, then each round one more ring
-  // of neighbours. Smoothing touches only those, so a fit that pushes little costs little; the
-  // bound is every vertex in every round.
+  // The requests make a displacement field over the garment (zero between fits), each pushed
+  // vertex listed once.
   Eigen::VectorXf& displacement = scratch.displacement;
   if (displacement.size() != 4 * vertex_count) displacement.setZero(4 * vertex_count);
-  float* field = displacement.data();
   std::vector<uint8_t>& marked = scratch.marked;
   marked.resize(static_cast<size_t>(vertex_count), 0);
-  std::vector<int32_t>& active = scratch.active;
-  active.clear();
-  active.reserve(static_cast<size_t>(vertex_count));
+  std::vector<int32_t>& pushed = scratch.pushed;
+  pushed.clear();
+  pushed.reserve(static_cast<size_t>(vertex_count));
   for (const ClearanceRequest& r : requests) {
-    Apply(r, field);
+    Apply(r, displacement.data());
     for (int i = 0; i < 3; ++i) {
       if (r.weights[i] == 0 || marked[r.vertices[i]]) continue;
       marked[r.vertices[i]] = 1;
-      active.push_back(r.vertices[i]);
+      pushed.push_back(r.vertices[i]);
     }
   }
+  for (const int32_t v : pushed) marked[v] = 0;
   // Each pushed vertex keeps at least its push along its direction through the smoothing.
-  const size_t pushed = active.size();
   std::vector<Eigen::Vector4f, Eigen::aligned_allocator<Eigen::Vector4f>>& held = scratch.held;
   std::vector<float>& held_squared = scratch.held_squared;
   held.reserve(static_cast<size_t>(vertex_count));
   held_squared.reserve(static_cast<size_t>(vertex_count));
-  held.resize(pushed);
-  held_squared.resize(pushed);
-  for (size_t i = 0; i < pushed; ++i) {
-    held[i] = Point4(field, active[i]);
+  held.resize(pushed.size());
+  held_squared.resize(pushed.size());
+  for (size_t i = 0; i < pushed.size(); ++i) {
+    held[i] = Point4(displacement.data(), pushed[i]);
     held_squared[i] = held[i].squaredNorm();
   }
-  const std::vector<int32_t>& offsets = correspondence.neighbor_offsets;
-  const std::vector<int32_t>& neighbors = correspondence.neighbors;
-  size_t frontier = 0;
+  // Jacobi rounds over the whole garment: a push spreads one ring of neighbours per round, and
+  // the cost is fixed, every vertex and edge once per round. (Gauss-Seidel sweeps over only
+  // the vertices a push had reached cost 2.2 times as much per round on male_casualsuit01's
+  // 8.4k vertices: finding the rings, and each vertex waiting for its neighbour's new value.)
+  Eigen::VectorXf& next = scratch.displacement_next;
+  next.resize(4 * vertex_count);
   for (int iteration = 0; iteration < correspondence.smoothing_iterations; ++iteration) {
-    const size_t ring = active.size();
-    for (size_t i = frontier; i < ring; ++i) {
-      for (int32_t n = offsets[active[i]]; n < offsets[active[i] + 1]; ++n) {
-        if (marked[neighbors[n]]) continue;
-        marked[neighbors[n]] = 1;
-        active.push_back(neighbors[n]);
-      }
-    }
-    frontier = ring;
-    // Gauss-Seidel, in place: a push spreads further per round than with Jacobi. Rounds
-    // alternate direction, so that two together favour no side.
-    const bool forward = iteration % 2 == 0;
-    for (size_t i = 0; i < active.size(); ++i) {
-      const int32_t v = active[forward ? i : active.size() - 1 - i];
-      Eigen::Vector4f sum = Point4(field, v);
-      for (int32_t n = offsets[v]; n < offsets[v + 1]; ++n) sum += Point4(field, neighbors[n]);
-      Point4(field, v) = sum * (1.0f / static_cast<float>(1 + offsets[v + 1] - offsets[v]));
-    }
-    for (size_t i = 0; i < pushed; ++i) {
+    AverageOverNeighbors(correspondence, displacement.data(), next.data());
+    displacement.swap(next);
+    float* field = displacement.data();
+    for (size_t i = 0; i < pushed.size(); ++i) {
       // d . h < |h|^2: d's length along h falls short of h's, and is topped up along h.
-      auto d = Point4(field, active[i]);
+      auto d = Point4(field, pushed[i]);
       const float along = d.dot(held[i]);
       if (along < held_squared[i]) d += ((held_squared[i] - along) / held_squared[i]) * held[i];
     }
   }
+  float* field = displacement.data();
   // Averaging may leave a triangle's request a little short where pushes of several corners
   // met; one more pass meets each exactly.
   if (correspondence.smoothing_iterations > 0) {
     for (const ClearanceRequest& r : requests) Apply(r, field);
   }
   int64_t moved = 0;
-  for (const int32_t v : active) {
-    auto d = Point4(field, v);
-    if (!d.isZero(0)) {
-      Eigen::Map<Eigen::Vector3f>(positions + 3 * static_cast<Eigen::Index>(v)) += d.head<3>();
-      ++moved;
-    }
+  for (Eigen::Index v = 0; v < vertex_count; ++v) {
+    auto d = Point4(field, static_cast<int32_t>(v));
+    if (d.isZero(0)) continue;
+    Eigen::Map<Eigen::Vector3f>(positions + 3 * v) += d.head<3>();
+    ++moved;
     d.setZero();
-    marked[v] = 0;
   }
   return moved;
 }

@@ -33,10 +33,10 @@ namespace fitbase::clothing {
 //     barycentric coordinates.
 //   - Smoothness. The requests are met by a displacement field over the garment, not vertex by
 //     vertex: requests are applied, then `smoothing_iterations` rounds of averaging the field
-//     over each vertex's garment neighbours (Gauss-Seidel steps of the Laplacian, towards
-//     TailorNet's Laplacian-preserving least squares), each pushed vertex keeping at least its
-//     own push, and the requests once more; a push fades over the neighbours instead of leaving
-//     a dent or a spike.
+//     over each vertex's garment neighbours (Jacobi steps of the Laplacian, towards TailorNet's
+//     Laplacian-preserving least squares), each pushed vertex keeping at least its own push,
+//     and the requests once more; a push fades over the neighbours instead of leaving a dent
+//     or a spike.
 // Without guards and smoothing (bases built before them) only the vertices are pushed.
 struct BodyCorrespondence {
   double offset = 0;                   // m.
@@ -80,9 +80,13 @@ inline constexpr double kGuardReach = 0.02;
 // pixels shown as skin against 0.85%) for twice the guards; the smoothing carries a push to
 // the neighbouring triangles anyway.
 inline constexpr int kGuardsPerBodyVertex = 1;
-// Rounds of smoothing (Gauss-Seidel, alternating direction). Each round costs some 10 ns per
-// garment vertex; 4 rounds showed 0.05 points less skin (0.87% of cloth pixels against 0.92%)
-// for a fifth more clean-up time.
+// Rounds of smoothing (Jacobi, over the whole garment). Each round costs some 3 ns per garment
+// vertex (male_casualsuit01: 8.4k vertices, 6 neighbours each on average). Until stop 52 they
+// were Gauss-Seidel sweeps over the vertices a push had reached, alternating direction; those
+// were 0.006 mm closer to the drape on the women's four garments in M and showed the same
+// skin, at 2.2 times the cost. 4 rounds (Gauss-Seidel)
+// showed 0.05 points less skin (0.87% of cloth pixels against 0.92%) for a fifth more
+// clean-up time.
 inline constexpr int kSmoothingIterations = 2;
 // More rounds than this are refused as a stored basis's value: the fit's cost grows with them.
 inline constexpr int kMaxSmoothingIterations = 64;
@@ -138,9 +142,10 @@ struct CleanupScratch {
   Eigen::VectorXf body4;         // 4U, m.
   Eigen::VectorXf garment4;      // 4V, m: the fit before the clean-up.
   Eigen::VectorXf displacement;  // 4V, m; zero between fits.
+  Eigen::VectorXf displacement_next;  // 4V, m: its next round.
   std::vector<ClearanceRequest, Eigen::aligned_allocator<ClearanceRequest>> requests;
-  std::vector<int32_t> active;  // Vertices the field may move; capacity V.
-  std::vector<uint8_t> marked;  // V: in `active`; zero between fits.
+  std::vector<int32_t> pushed;  // The requests' vertices, each once; capacity V.
+  std::vector<uint8_t> marked;  // V: in `pushed`; zero between fits.
   // Per pushed vertex: its push (w = 0) and the push's squared length.
   std::vector<Eigen::Vector4f, Eigen::aligned_allocator<Eigen::Vector4f>> held;
   std::vector<float> held_squared;
@@ -166,8 +171,10 @@ absl::Status GatherBodyPoints(const BodyCorrespondence& correspondence,
 
 // Rounds of smoothing of FollowBody's field. On the women's four garments in M (400 sampled
 // drapes, 10 held-out women), the fit to the own mesh missed its drape by 3.22 mm without,
-// 3.18 with 2 rounds, 3.17 with 4, and 3.16 with 8 or 16.
-inline constexpr int kFollowSmoothingIterations = 4;
+// 3.18 with 2 rounds, 3.17 with 4, and 3.16 with 8 or 16. Two: on 800 drapes and 30 women,
+// 4 rounds were 0.006 mm closer (2.74 mm) and cost 55 us more on male_casualsuit01's 8.4k
+// vertices, a tenth of the fit's budget.
+inline constexpr int kFollowSmoothingIterations = 2;
 
 // Carries a garment fitted for one body (fitted_for, 3U floats, m) onto another body of the
 // same topology (body, 3U): each vertex moves by how far `body` lies out from `fitted_for`
@@ -185,10 +192,10 @@ void FollowBody(const BodyCorrespondence& correspondence, const Eigen::VectorXf&
 // positions: 3V floats (m), xyz interleaved, moved in place; weights: N, checked by the
 // caller; correspondence: validated. Clears the body of the weights (PushOutOfBodyPoints).
 // Returns how many vertices moved. No iteration to convergence: the cost is bounded by V, K,
-// G, U, N, the rounds and the neighbour count (the smoothing visits only vertices its rounds
-// carry a push to, at most all of them), plus, in a fit with deep pushes, one refit of the
-// tree of the body under the garment and one search of it per deep push. InvalidArgument for
-// weights so far outside any body that a body point overflows, found when a push is deep.
+// G, U, N, the rounds and the neighbour count (each round of smoothing visits every vertex
+// and edge once), plus, in a fit with deep pushes, one refit of the tree of the body under the
+// garment and one search of it per deep push. InvalidArgument for weights so far outside any
+// body that a body point overflows, found when a push is deep.
 absl::StatusOr<int64_t> PushOutOfBody(const BodyCorrespondence& correspondence,
                                       const Eigen::VectorXf& weights, CleanupScratch& scratch,
                                       float* positions);

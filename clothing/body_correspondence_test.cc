@@ -454,6 +454,14 @@ TEST(BodyCorrespondenceTest, SmoothingFadesAPushOverTheNeighbours) {
   Eigen::VectorXf again = fit;
   ASSERT_TRUE(PushOutOfBody(c, w, scratch, again.data()).ok());
   EXPECT_EQ(again, smooth);
+  // Each round carries the push one ring of neighbours further: vertex 2, then 1, 3, 6 and 7,
+  // then 0, 4, 5 and 8, then 9.
+  for (const auto& [rounds, moved] : std::vector<std::pair<int, int>>{{1, 5}, {2, 9}, {3, 10}}) {
+    c.smoothing_iterations = rounds;
+    Eigen::VectorXf ringed = fit;
+    EXPECT_EQ(*PushOutOfBody(c, w, scratch, ringed.data()), moved) << rounds;
+    EXPECT_NEAR(ringed(3 * 2 + 1), 0.0025, 1e-6) << rounds;
+  }
 }
 
 TEST(BodyCorrespondenceTest, RejectsBadGuardsAndNeighbours) {
