@@ -138,7 +138,8 @@ struct CleanupScratch {
   Eigen::VectorXf own_body;      // 3U, m: a body given as a mesh (ClothingFitter::FitToBody).
   Eigen::VectorXf follow;        // 4V, m: FollowBody's field.
   Eigen::VectorXf follow_next;   // 4V, m: its next round.
-  std::vector<int32_t> anchor_rows;  // V: the anchor FollowBody carried each vertex along.
+  Eigen::VectorXf moved4;        // 4U, m: FollowBody's body less the body fitted for.
+  std::vector<int32_t> anchor_rows;  // V: each vertex's anchor row (FollowBody's, or the nearest).
   Eigen::VectorXf body4;         // 4U, m.
   Eigen::VectorXf garment4;      // 4V, m: the fit before the clean-up.
   Eigen::VectorXf displacement;  // 4V, m; zero between fits.
@@ -201,9 +202,10 @@ absl::StatusOr<int64_t> PushOutOfBody(const BodyCorrespondence& correspondence,
                                       float* positions);
 
 // As PushOutOfBody, clearing the body given by its U points (3U floats, m: from
-// BodyPointsOfWeights or GatherBodyPoints). anchor_rows: empty, or V rows of `corners`, the
-// anchor each vertex is cleared against instead of its nearest (FollowBody's: it moved the
-// vertex along that anchor's normal only, so the nearest is found once per fit, not twice).
+// BodyPointsOfWeights or GatherBodyPoints). anchor_rows: empty (each vertex's nearest, found
+// here into scratch.anchor_rows), or V rows of `corners`, the anchor each vertex is cleared
+// against instead of its nearest (FollowBody's: it moved the vertex along that anchor's normal
+// only, so the nearest is found once per fit, not twice; they may be scratch.anchor_rows).
 // With the correspondence's body_triangles, a vertex more than kDeepPush behind its anchor's
 // plane is asked of the body under the garment (its exact closest point there, signed):
 //   - At a surface facing away from the anchor's side (normals at an obtuse angle), the plane
