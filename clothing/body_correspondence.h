@@ -84,9 +84,8 @@ inline constexpr int kGuardsPerBodyVertex = 1;
 // vertex (male_casualsuit01: 8.4k vertices, 6 neighbours each on average). Until stop 52 they
 // were Gauss-Seidel sweeps over the vertices a push had reached, alternating direction; those
 // were 0.006 mm closer to the drape on the women's four garments in M and showed the same
-// skin, at 2.2 times the cost. 4 rounds (Gauss-Seidel)
-// showed 0.05 points less skin (0.87% of cloth pixels against 0.92%) for a fifth more
-// clean-up time.
+// skin, at 2.2 times the cost. 4 Gauss-Seidel rounds showed 0.05 points less skin (0.87% of
+// cloth pixels against 0.92%) for a fifth more clean-up time.
 inline constexpr int kSmoothingIterations = 2;
 // More rounds than this are refused as a stored basis's value: the fit's cost grows with them.
 inline constexpr int kMaxSmoothingIterations = 64;
