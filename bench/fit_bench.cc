@@ -292,8 +292,9 @@ void BM_FitStoredBasis(benchmark::State& state) {
     state.SkipWithError("cannot read --clothing");
     return;
   }
+  absl::StatusOr<clothing::ClothingModel> model = proto::ClothingModelFromProto(message);
   absl::StatusOr<clothing::ClothingFitter> loaded = proto::ClothingFitterFromProto(message);
-  if (!loaded.ok() || message.provenance().examples().empty()) {
+  if (!model.ok() || !loaded.ok() || message.provenance().examples().empty()) {
     state.SkipWithError("not a usable clothing basis");
     return;
   }
@@ -305,7 +306,7 @@ void BM_FitStoredBasis(benchmark::State& state) {
     correspondence.smoothing_iterations = 0;
   }
   const clothing::ClothingFitter fitter =
-      *clothing::ClothingFitter::Create(loaded->model(), std::move(correspondence));
+      *clothing::ClothingFitter::Create(*std::move(model), std::move(correspondence));
   const auto& example = *message.provenance().examples().rbegin();
   const Eigen::VectorXf w =
       Eigen::Map<const Eigen::VectorXd>(example.weights().data(), example.weights_size())
@@ -313,7 +314,7 @@ void BM_FitStoredBasis(benchmark::State& state) {
   clothing::FitScratch scratch;
   Eigen::VectorXf out;
   if (state.range(0) >= 5) {
-    const std::optional<Eigen::VectorXf> own_weights = ReadWeights(loaded->model().component_count);
+    const std::optional<Eigen::VectorXf> own_weights = ReadWeights(fitter.component_count());
     absl::StatusOr<core::Mesh> avatar =
         state.range(0) == 5 ? core::ReadObj(g_avatar_path) : core::Mesh();
     if (!avatar.ok() || !own_weights) {

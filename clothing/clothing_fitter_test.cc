@@ -1,5 +1,6 @@
 #include "clothing/clothing_fitter.h"
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -54,6 +55,47 @@ TEST(ClothingFitterTest, FitsThenCleansUp) {
   EXPECT_NEAR(out(1), 0.001f, 1e-7);
   EXPECT_EQ(*fitter.Fit(lifted, true, scratch, out), 1);
   EXPECT_NEAR(out(1), 0.0525f, 1e-6);
+}
+
+// The fitter's basis in 16 bits: the mean exact, each other column within half a step of its
+// scale (1/65534 of its largest magnitude) times its coefficient, and about half the bytes.
+TEST(ClothingFitterTest, FitsWithinTheSixteenBitStepOfTheFloatModel) {
+  OneVertex s = MakeOneVertex();
+  const Eigen::Index rows = 3 * 500;
+  s.model.basis = Eigen::MatrixXf::Random(rows, 3) * 0.02f;
+  s.model.basis.col(0) = Eigen::VectorXf::Random(rows);
+  s.model.term_component = {1, 0};
+  s.model.term_power = {1, 2};
+  // One anchor per vertex, the same for each (replicated from copies: replicate aliases).
+  const auto corners = s.correspondence.corners;
+  const auto barycentric = s.correspondence.barycentric;
+  s.correspondence.corners = corners.replicate(500, 1);
+  s.correspondence.barycentric = barycentric.replicate(500, 1);
+  const ClothingFitter fitter = *ClothingFitter::Create(s.model, s.correspondence);
+  EXPECT_EQ(fitter.vertex_count(), 500);
+  EXPECT_EQ(fitter.component_count(), 2);
+  const Eigen::VectorXf weights = Eigen::Vector2f(1.5f, -2.0f);
+  FitScratch scratch;
+  Eigen::VectorXf out;
+  ASSERT_TRUE(fitter.Fit(weights, false, scratch, out).ok());
+  Eigen::VectorXf features;
+  Eigen::VectorXf exact;
+  FitClothing(s.model, weights, features, exact);
+  ASSERT_EQ(features.size(), 3);
+  double bound = 0;
+  for (Eigen::Index k = 1; k < 3; ++k) {
+    bound += 0.5 * std::abs(features(k)) * s.model.basis.col(k).cwiseAbs().maxCoeff() / 32767;
+  }
+  const double error = (out - exact).cwiseAbs().maxCoeff();
+  EXPECT_LE(error, bound + 1e-6);
+  EXPECT_GT(error, 0);
+  // Two more terms hold two bytes per entry and a float scale each.
+  s.model.basis.conservativeResize(rows, 5);
+  s.model.basis.rightCols(2).setConstant(0.01f);
+  s.model.term_component = {1, 0, 1, 0};
+  s.model.term_power = {1, 2, 2, 1};
+  const ClothingFitter larger = *ClothingFitter::Create(s.model, s.correspondence);
+  EXPECT_EQ(larger.bytes() - fitter.bytes(), 2 * (2 * rows + 4));
 }
 
 TEST(ClothingFitterTest, RejectsMismatchedPartsAndWeights) {

@@ -405,10 +405,15 @@ void ComputeFeatures(const ClothingModel& model, const Weights& weights, Feature
 
 }  // namespace
 
+void ClothingFeatures(const ClothingModel& model, const Eigen::VectorXf& weights,
+                      Eigen::VectorXf& features) {
+  features.resize(1 + model.term_count() + model.kernel.output_count());
+  ComputeFeatures(model, weights, features);
+}
+
 void FitClothing(const ClothingModel& model, const Eigen::VectorXf& weights,
                  Eigen::VectorXf& features, Eigen::VectorXf& out) {
-  features.resize(model.basis.cols());
-  ComputeFeatures(model, weights, features);
+  ClothingFeatures(model, weights, features);
   out.setZero(model.basis.rows());
   core::MultiplyAccumulate(model.basis, features, out);
 }

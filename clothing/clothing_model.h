@@ -159,6 +159,11 @@ absl::Status ValidateClothingModel(const ClothingModel& model);
 // weights must have model.component_count finite entries (InvalidArgument otherwise).
 absl::Status CheckFitWeights(const ClothingModel& model, const Eigen::VectorXf& weights);
 
+// The coefficients of the basis's columns at `weights` (N, assumed checked): (1, f(w), c(w)),
+// 1 + T + C floats into `features`, which allocates only to take that size.
+void ClothingFeatures(const ClothingModel& model, const Eigen::VectorXf& weights,
+                      Eigen::VectorXf& features);
+
 // One customer: out (D) = g(weights). `features` is scratch of 1 + T + C floats. No allocation
 // once `out` and `features` have their sizes; the weights are assumed checked.
 void FitClothing(const ClothingModel& model, const Eigen::VectorXf& weights,

@@ -25,8 +25,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (!message.ParseFromArray(data, static_cast<int>(size))) return 0;
   (void)fitbase::proto::GarmentMeshFromClothingBasis(message);
   auto fitter = fitbase::proto::ClothingFitterFromProto(message);
-  if (!fitter.ok() || fitter->model().component_count > kMaxFitComponents) return 0;
-  const Eigen::VectorXf weights = Eigen::VectorXf::Constant(fitter->model().component_count, 0.01f);
+  if (!fitter.ok() || fitter->component_count() > kMaxFitComponents) return 0;
+  const Eigen::VectorXf weights = Eigen::VectorXf::Constant(fitter->component_count(), 0.01f);
   fitbase::clothing::FitScratch scratch;
   Eigen::VectorXf positions;
   (void)fitter->Fit(weights, /*cleanup=*/true, scratch, positions);

@@ -85,7 +85,7 @@ absl::StatusOr<std::shared_ptr<const ServedClothing>> FitCatalog::Clothing(
         absl::StrCat("stored clothing basis ", record.content_id, " does not parse"));
   }
   ASSIGN_OR_RETURN(clothing::ClothingFitter fitter, proto::ClothingFitterFromProto(basis));
-  Eigen::VectorXd reach = Eigen::VectorXd::Zero(fitter.model().component_count);
+  Eigen::VectorXd reach = Eigen::VectorXd::Zero(fitter.component_count());
   for (const v1::ClothingExample& example : basis.provenance().examples()) {
     for (int k = 0; k < std::min<int>(example.weights_size(), reach.size()); ++k) {
       reach(k) = std::max(reach(k), std::abs(example.weights(k)));
@@ -93,7 +93,8 @@ absl::StatusOr<std::shared_ptr<const ServedClothing>> FitCatalog::Clothing(
   }
   auto served = std::make_shared<ServedClothing>(
       ServedClothing{std::move(fitter), record.version, record.content_id, std::move(reach)});
-  clothing_.Put(cache_key, {served, record.bytes.size(), now});
+  // What the fitter holds, not the record: it keeps the basis in 16 bits, the record in floats.
+  clothing_.Put(cache_key, {served, served->fitter.bytes(), now});
   return served;
 }
 

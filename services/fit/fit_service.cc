@@ -88,8 +88,8 @@ absl::StatusOr<SizeFitted> FitPositions(FitCatalog& catalog, absl::string_view t
   if (!found.ok()) return found.status();
   out.clothing = *std::move(found);
   ASSIGN_OR_RETURN(const Eigen::VectorXd checked,
-                   pipeline::CheckedWeights(
-                       weights, out.clothing->fitter.model().component_count, weights.basis_id()));
+                   pipeline::CheckedWeights(weights, out.clothing->fitter.component_count(),
+                                            weights.basis_id()));
   const Eigen::VectorXf w = checked.cast<float>();
   thread_local clothing::FitScratch scratch;
   const absl::Time start = absl::Now();
