@@ -7,6 +7,8 @@
 //     `of_bandwidth` is the fit's byte rate over the streaming-read rate;
 //   - BM_FitPortable/N/V: TermMajor's product without the AVX path (core::MultiplyAccumulate),
 //     the same bytes: TermMajor's time over this one is what the runtime dispatch buys here;
+//   - BM_FitInt16/N/V: the product as ClothingFitter computes it, the terms in 16 bits
+//     (core::Int16Columns): TermMajor's time over this one is what the half-size basis buys;
 //   - BM_FitBatch64/N/V: 64 customers as one matrix product; `of_sgemm` is its FLOP rate
 //     over the SGEMM rate;
 //   - BM_FitKernel/N/V/S: the kernel model (N terms, 2N + 1 + 400 training bodies, 32 outputs;
@@ -139,6 +141,23 @@ void BM_FitPortable(benchmark::State& state) {
   }
   SetShareOfBandwidth(state, FitBytes(n, v));
   state.counters["avx_path"] = core::MultiplyAccumulateUsesAvx();
+}
+
+// The basis as ClothingFitter holds it: the mean in floats, the terms in 16 bits.
+void BM_FitInt16(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), v = static_cast<int>(state.range(1));
+  const clothing::ClothingModel model = MakeModel(n, v);
+  const Eigen::VectorXf mean = model.basis.col(0);
+  const core::Int16Columns terms = core::QuantizeColumns(model.basis.rightCols(n));
+  const Eigen::VectorXf w = Weights(n);
+  Eigen::VectorXf out;
+  for (auto _ : state) {
+    out = mean;
+    core::MultiplyAccumulate(terms, w, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  SetShareOfBandwidth(state, 4.0 * 3 * v * 2 + static_cast<double>(terms.bytes()));
+  state.counters["avx2_path"] = core::MultiplyAccumulateInt16UsesAvx2();
 }
 
 void BM_FitVertexMajor(benchmark::State& state) {
@@ -354,6 +373,11 @@ void BM_FitStoredBasis(benchmark::State& state) {
   state.counters["body_triangles"] =
       static_cast<double>(fitter.correspondence().body_triangles.rows());
   state.counters["anchors"] = static_cast<double>(fitter.correspondence().anchors_per_vertex);
+  // What the fitter holds in all, and its basis in 16 bits against the floats it was stored in.
+  const auto columns = static_cast<double>(message.terms_size() + message.kernel().outputs_size());
+  state.counters["held_MB"] = static_cast<double>(fitter.bytes()) / 1e6;
+  state.counters["basis_MB"] = 1e-6 * (4.0 * message.mean_size() + 2.0 * columns);
+  state.counters["basis_float_MB"] = 4e-6 * (message.mean_size() + columns);
 }
 
 void BM_ProjectAvatar(benchmark::State& state) {
@@ -394,6 +418,7 @@ BENCHMARK(BM_StreamRead);
 BENCHMARK(BM_Sgemm)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FitTermMajor)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitPortable)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FitInt16)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitVertexMajor)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitBatch64)->Apply(FitSizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FitKernel)
