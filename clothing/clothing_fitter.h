@@ -25,10 +25,10 @@ struct FitScratch {
 // serves any number of threads, each with its own FitScratch.
 //
 // The fitter holds the model's basis as the mean in floats and its other columns in 16 bits
-// (core::Int16Columns): a fit streams the basis once, and half the bytes take 30% off that
-// product and let a server hold twice the garment sizes. Each entry is then within 1/65534 of
-// its column's largest magnitude, a few micrometres of the fitted garment (README, "Sixteen
-// bits per entry").
+// (core::Int16Columns): a fit streams the basis once, and half its bytes take about 20 us off
+// that product on male_casualsuit01's 8.4k vertices and the fitter from 9.4 to 6.2 MB (the
+// correspondence stays in floats). Each entry is then within 1/65534 of its column's largest
+// magnitude, micrometres of the fitted garment (README, "Sixteen bits per entry").
 class ClothingFitter {
  public:
   // The model and correspondence must agree in vertex and component counts.

@@ -26,11 +26,12 @@ void Int16Factors(const Int16Columns& m, const float* x, float* factors) {
   for (Eigen::Index k = 0; k < m.cols(); ++k) factors[k] = x[k] * m.scales[k];
 }
 
+// m's column k starts at m + k * stride.
 void PortableInt16Columns(const int16_t* m, Eigen::Index rows, Eigen::Index cols,
-                          const float* factors, float* out) {
+                          Eigen::Index stride, const float* factors, float* out) {
   for (Eigen::Index k = 0; k < cols; ++k) {
     const float s = factors[k];
-    const int16_t* column = m + k * rows;
+    const int16_t* column = m + k * stride;
     for (Eigen::Index i = 0; i < rows; ++i) out[i] = out[i] + s * static_cast<float>(column[i]);
   }
 }
@@ -103,14 +104,7 @@ __attribute__((target("avx2"))) void Avx2Int16Columns(const int16_t* m, Eigen::I
       _mm256_storeu_ps(out + i + 24, a3);
     }
   }
-  // The remainder rows of every column: the column stride stays `rows`.
-  for (Eigen::Index k = 0; k < cols; ++k) {
-    const float s = factors[k];
-    const int16_t* column = m + k * rows;
-    for (Eigen::Index i = blocked; i < rows; ++i) {
-      out[i] = out[i] + s * static_cast<float>(column[i]);
-    }
-  }
+  PortableInt16Columns(m + blocked, rows - blocked, cols, rows, factors, out + blocked);
 }
 #endif
 
@@ -177,7 +171,8 @@ void MultiplyAccumulatePortable(const Int16Columns& m, const Eigen::Ref<const Ei
   eigen_assert(m.cols() == x.size() && m.rows() == out.size());
   Eigen::VectorXf factors(m.cols());
   Int16Factors(m, x.data(), factors.data());
-  PortableInt16Columns(m.values.data(), m.rows(), m.cols(), factors.data(), out.data());
+  PortableInt16Columns(m.values.data(), m.rows(), m.cols(), m.rows(), factors.data(),
+                       out.data());
 }
 
 void MultiplyAccumulate(const Int16Columns& m, const Eigen::Ref<const Eigen::VectorXf>& x,
@@ -199,7 +194,7 @@ void MultiplyAccumulate(const Int16Columns& m, const Eigen::Ref<const Eigen::Vec
     return;
   }
 #endif
-  PortableInt16Columns(m.values.data(), m.rows(), m.cols(), factors, out.data());
+  PortableInt16Columns(m.values.data(), m.rows(), m.cols(), m.rows(), factors, out.data());
 }
 
 }  // namespace fitbase::core
