@@ -171,8 +171,7 @@ void MultiplyAccumulatePortable(const Int16Columns& m, const Eigen::Ref<const Ei
   eigen_assert(m.cols() == x.size() && m.rows() == out.size());
   Eigen::VectorXf factors(m.cols());
   Int16Factors(m, x.data(), factors.data());
-  PortableInt16Columns(m.values.data(), m.rows(), m.cols(), m.rows(), factors.data(),
-                       out.data());
+  PortableInt16Columns(m.values.data(), m.rows(), m.cols(), m.rows(), factors.data(), out.data());
 }
 
 void MultiplyAccumulate(const Int16Columns& m, const Eigen::Ref<const Eigen::VectorXf>& x,
