@@ -5,7 +5,7 @@
 //   - BM_Fit{TermMajor,VertexMajor}/N/V: one customer, N components, V garment vertices, with
 //     the basis (mean and terms) stored term-major (each contiguous) or vertex-major; counter
 //     `of_bandwidth` is the fit's byte rate over the streaming-read rate;
-//   - BM_FitPortable/N/V: TermMajor's product without the AVX path (core::MultiplyAccumulate),
+//   - BM_FitPortable/N/V: TermMajor's product without the AVX2 path (core::MultiplyAccumulate),
 //     the same bytes: TermMajor's time over this one is what the runtime dispatch buys here;
 //   - BM_FitInt16/N/V: the product as ClothingFitter computes it, the terms in 16 bits
 //     (core::Int16Columns): TermMajor's time over this one is what the half-size basis buys;
@@ -140,7 +140,7 @@ void BM_FitPortable(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
   }
   SetShareOfBandwidth(state, FitBytes(n, v));
-  state.counters["avx_path"] = core::MultiplyAccumulateUsesAvx();
+  state.counters["avx2_path"] = core::MultiplyAccumulateUsesAvx2();
 }
 
 // The basis as ClothingFitter holds it: the mean in floats, the terms in 16 bits.
@@ -157,7 +157,7 @@ void BM_FitInt16(benchmark::State& state) {
     benchmark::DoNotOptimize(out.data());
   }
   SetShareOfBandwidth(state, 4.0 * 3 * v * 2 + static_cast<double>(terms.bytes()));
-  state.counters["avx2_path"] = core::MultiplyAccumulateInt16UsesAvx2();
+  state.counters["avx2_path"] = core::MultiplyAccumulateUsesAvx2();
 }
 
 void BM_FitVertexMajor(benchmark::State& state) {

@@ -5,19 +5,21 @@
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
-#define FITBASE_HAS_AVX_PATH 1
+#define FITBASE_HAS_AVX2_PATH 1
 #endif
 
 namespace fitbase::core {
 namespace {
 
-// m's column k starts at m + k * stride.
-void PortableColumns(const float* m, Eigen::Index rows, Eigen::Index cols, Eigen::Index stride,
-                     const float* x, float* out) {
+// m's column k starts at m + k * stride; factors[k] is column k's coefficient. Every row sums
+// the columns in order, each product and sum rounded on its own.
+template <typename Entry>
+void PortableColumns(const Entry* m, Eigen::Index rows, Eigen::Index cols, Eigen::Index stride,
+                     const float* factors, float* out) {
   for (Eigen::Index k = 0; k < cols; ++k) {
-    const float s = x[k];
-    const float* column = m + k * stride;
-    for (Eigen::Index i = 0; i < rows; ++i) out[i] = out[i] + s * column[i];
+    const float s = factors[k];
+    const Entry* column = m + k * stride;
+    for (Eigen::Index i = 0; i < rows; ++i) out[i] = out[i] + s * static_cast<float>(column[i]);
   }
 }
 
@@ -26,65 +28,32 @@ void Int16Factors(const Int16Columns& m, const float* x, float* factors) {
   for (Eigen::Index k = 0; k < m.cols(); ++k) factors[k] = x[k] * m.scales[k];
 }
 
-// m's column k starts at m + k * stride.
-void PortableInt16Columns(const int16_t* m, Eigen::Index rows, Eigen::Index cols,
-                          Eigen::Index stride, const float* factors, float* out) {
-  for (Eigen::Index k = 0; k < cols; ++k) {
-    const float s = factors[k];
-    const int16_t* column = m + k * stride;
-    for (Eigen::Index i = 0; i < rows; ++i) out[i] = out[i] + s * static_cast<float>(column[i]);
-  }
-}
-
-#ifdef FITBASE_HAS_AVX_PATH
+#ifdef FITBASE_HAS_AVX2_PATH
 // Columns in passes of kColumnsPerPass, 32 rows at a time in four registers: a pass reads that
 // many column streams (more at once defeat the hardware prefetcher on a large model) and `out`
 // once. The rows past the last whole block take the portable loop. Each row still sums its
 // columns in order.
 constexpr Eigen::Index kColumnsPerPass = 8;
 
-__attribute__((target("avx"))) void AvxColumns(const float* m, Eigen::Index rows,
-                                               Eigen::Index cols, Eigen::Index stride,
-                                               const float* x, float* out) {
-  const Eigen::Index blocked = rows - rows % 32;
-  for (Eigen::Index first = 0; first < cols; first += kColumnsPerPass) {
-    const Eigen::Index last = std::min(cols, first + kColumnsPerPass);
-    for (Eigen::Index i = 0; i < blocked; i += 32) {
-      __m256 a0 = _mm256_loadu_ps(out + i);
-      __m256 a1 = _mm256_loadu_ps(out + i + 8);
-      __m256 a2 = _mm256_loadu_ps(out + i + 16);
-      __m256 a3 = _mm256_loadu_ps(out + i + 24);
-      const float* p = m + first * stride + i;
-      for (Eigen::Index k = first; k < last; ++k, p += stride) {
-        const __m256 s = _mm256_broadcast_ss(x + k);
-        a0 = _mm256_add_ps(a0, _mm256_mul_ps(s, _mm256_loadu_ps(p)));
-        a1 = _mm256_add_ps(a1, _mm256_mul_ps(s, _mm256_loadu_ps(p + 8)));
-        a2 = _mm256_add_ps(a2, _mm256_mul_ps(s, _mm256_loadu_ps(p + 16)));
-        a3 = _mm256_add_ps(a3, _mm256_mul_ps(s, _mm256_loadu_ps(p + 24)));
-      }
-      _mm256_storeu_ps(out + i, a0);
-      _mm256_storeu_ps(out + i + 8, a1);
-      _mm256_storeu_ps(out + i + 16, a2);
-      _mm256_storeu_ps(out + i + 24, a3);
-    }
-  }
-  PortableColumns(m + blocked, rows - blocked, cols, stride, x, out + blocked);
+__attribute__((target("avx2"))) inline __m256 LoadEight(const float* p) {
+  return _mm256_loadu_ps(p);
 }
 
-// Eight entries widened to int32, then converted to float: exact, as the portable cast is.
-__attribute__((target("avx2"))) inline __m256 LoadInt16(const int16_t* p) {
+// Widened to int32, then converted to float: exact, as the portable cast is. Half the bytes to
+// load for one more conversion per 8 entries. On male_casualsuit01's basis (25,278 rows by 62
+// columns) the product takes about 60 us against the floats' 76 to 83, or 60 to 66 had each
+// float column started on a 32-byte boundary (25,278 rows do not give that; the 16-byte loads
+// mind it less). Larger bases gain more: 14.6 MB of floats, 233 us against 164. Without AVX2
+// (two SSE4.1 widenings and an insert) it took 98 us.
+__attribute__((target("avx2"))) inline __m256 LoadEight(const int16_t* p) {
   return _mm256_cvtepi32_ps(
       _mm256_cvtepi16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p))));
 }
 
-// AvxColumns' loop over 16-bit entries, widened to floats: half the bytes to load for one more
-// conversion per 8 entries. On male_casualsuit01's basis (25,278 rows by 62 columns) it takes
-// about 60 us against the floats' 76 to 83, or 60 to 66 had each float column started on a
-// 32-byte boundary (25,278 rows do not give that; the 16-bit loads are 16 bytes and mind it
-// less). Larger bases gain more: 14.6 MB of floats, 233 us against 164.
-__attribute__((target("avx2"))) void Avx2Int16Columns(const int16_t* m, Eigen::Index rows,
-                                                      Eigen::Index cols, const float* factors,
-                                                      float* out) {
+template <typename Entry>
+__attribute__((target("avx2"))) void Avx2Columns(const Entry* m, Eigen::Index rows,
+                                                 Eigen::Index cols, Eigen::Index stride,
+                                                 const float* factors, float* out) {
   const Eigen::Index blocked = rows - rows % 32;
   for (Eigen::Index first = 0; first < cols; first += kColumnsPerPass) {
     const Eigen::Index last = std::min(cols, first + kColumnsPerPass);
@@ -93,13 +62,13 @@ __attribute__((target("avx2"))) void Avx2Int16Columns(const int16_t* m, Eigen::I
       __m256 a1 = _mm256_loadu_ps(out + i + 8);
       __m256 a2 = _mm256_loadu_ps(out + i + 16);
       __m256 a3 = _mm256_loadu_ps(out + i + 24);
-      const int16_t* p = m + first * rows + i;
-      for (Eigen::Index k = first; k < last; ++k, p += rows) {
+      const Entry* p = m + first * stride + i;
+      for (Eigen::Index k = first; k < last; ++k, p += stride) {
         const __m256 s = _mm256_broadcast_ss(factors + k);
-        a0 = _mm256_add_ps(a0, _mm256_mul_ps(s, LoadInt16(p)));
-        a1 = _mm256_add_ps(a1, _mm256_mul_ps(s, LoadInt16(p + 8)));
-        a2 = _mm256_add_ps(a2, _mm256_mul_ps(s, LoadInt16(p + 16)));
-        a3 = _mm256_add_ps(a3, _mm256_mul_ps(s, LoadInt16(p + 24)));
+        a0 = _mm256_add_ps(a0, _mm256_mul_ps(s, LoadEight(p)));
+        a1 = _mm256_add_ps(a1, _mm256_mul_ps(s, LoadEight(p + 8)));
+        a2 = _mm256_add_ps(a2, _mm256_mul_ps(s, LoadEight(p + 16)));
+        a3 = _mm256_add_ps(a3, _mm256_mul_ps(s, LoadEight(p + 24)));
       }
       _mm256_storeu_ps(out + i, a0);
       _mm256_storeu_ps(out + i + 8, a1);
@@ -107,16 +76,29 @@ __attribute__((target("avx2"))) void Avx2Int16Columns(const int16_t* m, Eigen::I
       _mm256_storeu_ps(out + i + 24, a3);
     }
   }
-  PortableInt16Columns(m + blocked, rows - blocked, cols, rows, factors, out + blocked);
+  PortableColumns(m + blocked, rows - blocked, cols, stride, factors, out + blocked);
 }
 #endif
 
+// The product on this CPU's best path.
+template <typename Entry>
+void Columns(const Entry* m, Eigen::Index rows, Eigen::Index cols, Eigen::Index stride,
+             const float* factors, float* out) {
+#ifdef FITBASE_HAS_AVX2_PATH
+  if (MultiplyAccumulateUsesAvx2()) {
+    Avx2Columns(m, rows, cols, stride, factors, out);
+    return;
+  }
+#endif
+  PortableColumns(m, rows, cols, stride, factors, out);
+}
+
 }  // namespace
 
-bool MultiplyAccumulateUsesAvx() {
-#ifdef FITBASE_HAS_AVX_PATH
-  static const bool avx = __builtin_cpu_supports("avx");
-  return avx;
+bool MultiplyAccumulateUsesAvx2() {
+#ifdef FITBASE_HAS_AVX2_PATH
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
 #else
   return false;
 #endif
@@ -133,22 +115,7 @@ void MultiplyAccumulate(const Eigen::Ref<const Eigen::MatrixXf>& m,
                         const Eigen::Ref<const Eigen::VectorXf>& x,
                         Eigen::Ref<Eigen::VectorXf> out) {
   eigen_assert(m.cols() == x.size() && m.rows() == out.size());
-#ifdef FITBASE_HAS_AVX_PATH
-  if (MultiplyAccumulateUsesAvx()) {
-    AvxColumns(m.data(), m.rows(), m.cols(), m.outerStride(), x.data(), out.data());
-    return;
-  }
-#endif
-  PortableColumns(m.data(), m.rows(), m.cols(), m.outerStride(), x.data(), out.data());
-}
-
-bool MultiplyAccumulateInt16UsesAvx2() {
-#ifdef FITBASE_HAS_AVX_PATH
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-#else
-  return false;
-#endif
+  Columns(m.data(), m.rows(), m.cols(), m.outerStride(), x.data(), out.data());
 }
 
 Int16Columns QuantizeColumns(const Eigen::Ref<const Eigen::MatrixXf>& m) {
@@ -174,7 +141,7 @@ void MultiplyAccumulatePortable(const Int16Columns& m, const Eigen::Ref<const Ei
   eigen_assert(m.cols() == x.size() && m.rows() == out.size());
   Eigen::VectorXf factors(m.cols());
   Int16Factors(m, x.data(), factors.data());
-  PortableInt16Columns(m.values.data(), m.rows(), m.cols(), m.rows(), factors.data(), out.data());
+  PortableColumns(m.values.data(), m.rows(), m.cols(), m.rows(), factors.data(), out.data());
 }
 
 void MultiplyAccumulate(const Int16Columns& m, const Eigen::Ref<const Eigen::VectorXf>& x,
@@ -190,13 +157,7 @@ void MultiplyAccumulate(const Int16Columns& m, const Eigen::Ref<const Eigen::Vec
     factors = heap.data();
   }
   Int16Factors(m, x.data(), factors);
-#ifdef FITBASE_HAS_AVX_PATH
-  if (MultiplyAccumulateInt16UsesAvx2()) {
-    Avx2Int16Columns(m.values.data(), m.rows(), m.cols(), factors, out.data());
-    return;
-  }
-#endif
-  PortableInt16Columns(m.values.data(), m.rows(), m.cols(), m.rows(), factors, out.data());
+  Columns(m.values.data(), m.rows(), m.cols(), m.rows(), factors, out.data());
 }
 
 }  // namespace fitbase::core

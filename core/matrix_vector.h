@@ -10,20 +10,20 @@ namespace fitbase::core {
 
 // out (R) += m (R x C, column-major) * x (C). Each row is summed over the columns in order,
 // each product and each sum rounded on its own (no fused multiply-add), so the result is the
-// same bytes on every x86-64 CPU, while a CPU with AVX computes 8 rows at a time (runtime
+// same bytes on every x86-64 CPU, while a CPU with AVX2 computes 8 rows at a time (runtime
 // dispatch: the online fit is this product over the whole garment, and the portable build's
 // 4-wide SSE2 takes twice as long). Shapes are the caller's contract (checked in debug builds).
 void MultiplyAccumulate(const Eigen::Ref<const Eigen::MatrixXf>& m,
                         const Eigen::Ref<const Eigen::VectorXf>& x, Eigen::Ref<Eigen::VectorXf> out);
 
-// The same sums without AVX, whatever the CPU: the reference the dispatched product is tested
-// and benchmarked against.
+// The same sums without AVX2, whatever the CPU: the reference the dispatched product is
+// tested and benchmarked against.
 void MultiplyAccumulatePortable(const Eigen::Ref<const Eigen::MatrixXf>& m,
                                 const Eigen::Ref<const Eigen::VectorXf>& x,
                                 Eigen::Ref<Eigen::VectorXf> out);
 
-// Whether MultiplyAccumulate takes the AVX path on this CPU.
-bool MultiplyAccumulateUsesAvx();
+// Whether MultiplyAccumulate, over floats or 16 bits, takes the AVX2 path on this CPU.
+bool MultiplyAccumulateUsesAvx2();
 
 // An R x C matrix in 16 bits per entry: entry (i, k) stands for values(i, k) * scales[k], with
 // scales[k] = max_i |m(i, k)| / 32767 of the matrix it was made from, so that it is within
@@ -55,9 +55,6 @@ void MultiplyAccumulate(const Int16Columns& m, const Eigen::Ref<const Eigen::Vec
 // The same sums without AVX2, whatever the CPU.
 void MultiplyAccumulatePortable(const Int16Columns& m, const Eigen::Ref<const Eigen::VectorXf>& x,
                                 Eigen::Ref<Eigen::VectorXf> out);
-
-// Whether the Int16Columns product takes the AVX2 path on this CPU.
-bool MultiplyAccumulateInt16UsesAvx2();
 
 }  // namespace fitbase::core
 
