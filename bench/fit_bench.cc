@@ -27,11 +27,14 @@
 //     the pushes checked against the body under the garment per fit (each such fit refits
 //     that region's tree, of `body_triangles` triangles; 0 at the other arguments' training
 //     body when none is deep); BM_FitStoredBasis/6 (with --weights): fitted from those weights
-//     alone, the deep pushes checked against the body of the weights.
+//     alone, the deep pushes checked against the body of the weights; BM_LoadStoredBasis/0
+//     what a fit server pays to parse that record and build its fitter, /1 of it the basis's
+//     conversion to 16 bits.
 // Usage: fitbase_fit_bench [--benchmark_filter=...] [--clothing=PATH.fbc]
 //        [--weights=PATH.json [--avatar=PATH.obj]]
 #include <optional>
 #include <random>
+#include <string>
 
 #include "benchmark/benchmark.h"
 #include "body/body_model.h"
@@ -380,6 +383,33 @@ void BM_FitStoredBasis(benchmark::State& state) {
   state.counters["basis_float_MB"] = 4e-6 * (message.mean_size() + columns);
 }
 
+// What a fit server pays on a cache miss, after reading the record: parsing it, building the
+// fitter (validation, and its basis put into 16 bits), and that conversion alone.
+void BM_LoadStoredBasis(benchmark::State& state) {
+  std::string bytes;
+  v1::ClothingBasis message;
+  if (!proto::ReadMessageFile(g_clothing_path, &message).ok() ||
+      !message.SerializeToString(&bytes)) {
+    state.SkipWithError("cannot read --clothing");
+    return;
+  }
+  const absl::StatusOr<clothing::ClothingModel> model = proto::ClothingModelFromProto(message);
+  if (!model.ok()) {
+    state.SkipWithError("not a usable clothing basis");
+    return;
+  }
+  for (auto _ : state) {
+    if (state.range(0) == 0) {
+      v1::ClothingBasis parsed;
+      benchmark::DoNotOptimize(parsed.ParseFromString(bytes));
+      benchmark::DoNotOptimize(proto::ClothingFitterFromProto(parsed));
+    } else {
+      benchmark::DoNotOptimize(
+          core::QuantizeColumns(model->basis.rightCols(model->basis.cols() - 1)));
+    }
+  }
+}
+
 void BM_ProjectAvatar(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   core::PcaBasis basis;
@@ -454,6 +484,9 @@ int main(int argc, char** argv) {
                        ->Unit(benchmark::kMicrosecond);
     if (weights && !fitbase::g_avatar_path.empty()) stored->Arg(5);
     if (weights) stored->Arg(6);
+    benchmark::RegisterBenchmark("BM_LoadStoredBasis", fitbase::BM_LoadStoredBasis)
+        ->DenseRange(0, 1)
+        ->Unit(benchmark::kMillisecond);
   }
   fitbase::LimitCapture reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);

@@ -125,12 +125,22 @@ Int16Columns QuantizeColumns(const Eigen::Ref<const Eigen::MatrixXf>& m) {
   q.scales.resize(m.cols());
   for (Eigen::Index k = 0; k < m.cols(); ++k) {
     const float largest = m.rows() > 0 ? m.col(k).cwiseAbs().maxCoeff() : 0.0f;
-    const float scale = largest / 32767.0f;
-    q.scales[k] = scale;
+    // Multiplied, not divided, and rounded half away from zero without a library call or a
+    // branch (with them, 3.1 ms of male_casualsuit01's 10 ms load). A column under
+    // 32767 / FLT_MAX in magnitude (1e-34) has no finite inverse and is taken as zero.
+    const float inverse = largest > 0 ? 32767.0f / largest : 0.0f;
+    const bool zero = !(inverse > 0 && std::isfinite(inverse));
+    q.scales[k] = zero ? 0.0f : largest / 32767.0f;
+    const auto column = m.col(k);
+    int16_t* values = q.values.col(k).data();
+    const float factor = zero ? 0.0f : inverse;
     for (Eigen::Index i = 0; i < m.rows(); ++i) {
-      // The division can round a column's largest entry a hair past 32767.
-      const float steps = scale > 0 ? std::nearbyint(m(i, k) / scale) : 0.0f;
-      q.values(i, k) = static_cast<int16_t>(std::clamp(steps, -32767.0f, 32767.0f));
+      const float steps = column[i] * factor;
+      // The product can round a column's largest entry a hair past 32767. Branch-free: the
+      // signs of a column's entries follow no pattern a branch predictor could learn.
+      const float rounded =
+          std::min(std::max(steps + std::copysign(0.5f, steps), -32767.0f), 32767.0f);
+      values[i] = static_cast<int16_t>(rounded);
     }
   }
   return q;
