@@ -39,6 +39,16 @@ void ExpectThePortableBytes(const Matrix& matrix, const Eigen::MatrixXf& entries
   EXPECT_LT((fast - (start + entries * x)).cwiseAbs().maxCoeff(), 1e-5f) << rows;
 }
 
+// A column too small for its inverse to be finite is zero, not infinite steps.
+TEST(MatrixVectorTest, QuantizesAColumnBelowAnyScaleToZero) {
+  Eigen::MatrixXf m = Eigen::MatrixXf::Random(10, 2);
+  m.col(1) *= 1e-38f;
+  const Int16Columns q = QuantizeColumns(m);
+  EXPECT_EQ(q.scales[1], 0.0f);
+  EXPECT_EQ(q.values.col(1).cwiseAbs().maxCoeff(), 0);
+  EXPECT_GT(q.scales[0], 0.0f);
+}
+
 // The promise that lets replicas on different CPUs serve the same bytes: the vector path and
 // the portable one round alike, on values whose sums do round, over floats and 16 bits.
 TEST(MatrixVectorTest, GivesThePortableBytesOnThisCpu) {
@@ -70,6 +80,7 @@ TEST(MatrixVectorTest, QuantizesEachColumnWithinHalfAStep) {
   const Int16Columns q = QuantizeColumns(m);
   ASSERT_EQ(q.rows(), 100);
   ASSERT_EQ(q.cols(), 4);
+  EXPECT_EQ(q.values.col(2).cwiseAbs().maxCoeff(), 0);
   EXPECT_EQ(q.scales[2], 0.0f);
   EXPECT_EQ(q.values(7, 3), -32767);
   EXPECT_EQ(q.bytes(), 2 * 100 * 4 + 4 * 4u);
