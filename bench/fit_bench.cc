@@ -315,12 +315,12 @@ void BM_FitStoredBasis(benchmark::State& state) {
     return;
   }
   absl::StatusOr<clothing::ClothingModel> model = proto::ClothingModelFromProto(message);
-  absl::StatusOr<clothing::ClothingFitter> loaded = proto::ClothingFitterFromProto(message);
+  absl::StatusOr<clothing::BodyCorrespondence> loaded = proto::BodyCorrespondenceFromProto(message);
   if (!model.ok() || !loaded.ok() || message.provenance().examples().empty()) {
     state.SkipWithError("not a usable clothing basis");
     return;
   }
-  clothing::BodyCorrespondence correspondence = loaded->correspondence();
+  clothing::BodyCorrespondence correspondence = *std::move(loaded);
   if (state.range(0) == 2) {
     correspondence.guard_body.clear();
     correspondence.guard_triangles.resize(0, 3);

@@ -42,7 +42,8 @@ struct Int16Columns {
 };
 
 // m: R x C, every entry finite (the caller's contract, checked in debug builds). Each entry
-// rounds to the nearest step of its column's scale; an all-zero column has scale 0.
+// rounds to the nearest step of its column's scale. A column under 32767 / FLT_MAX (about
+// 1e-34) in magnitude, an all-zero one included, has scale 0 and zero entries.
 Int16Columns QuantizeColumns(const Eigen::Ref<const Eigen::MatrixXf>& m);
 
 // out (R) += m * x (C), m as its Int16Columns entries stand for. Each column's factor is
