@@ -69,9 +69,9 @@ read -r _ page <&3
 echo "== stack: coordinator $coordinator, fit service $fit, page $page (logs: $out/serve.log)"
 
 declare -A garment_of=([women]=female_casualsuit01 [men]=male_casualsuit02)
-# The shop serves the kernel model, trained here on fewer sampled drapes per size than the
-# recommended 400, or 200 where drapes are dear (README, "Clothing bases and the online fit"),
-# to keep the demo short.
+# The shop serves the kernel model, trained here on far fewer sampled drapes per size than the
+# 800 recommended for a catalogue, on 30-component bases (README, "Recommended for a
+# catalogue"), to keep the demo short.
 demo_samples=24
 # For size advice: a jersey T-shirt over leggings, and a woven shirt over trousers.
 declare -A type_of=([women]=knit [men]=shirt)
