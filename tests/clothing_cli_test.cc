@@ -319,7 +319,11 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
   EXPECT_GE(garment.drape_skin_through(), 0);
   EXPECT_LE(garment.drape_skin_through(), garment.drape_skin_through_max());
   EXPECT_LE(garment.drape_skin_through_max(), 1);
+  // Its build's drapes: the mean and + and - sigma along each of the basis's 2 components.
+  EXPECT_EQ(garment.build_drapes(), 5u);
+  EXPECT_GT(garment.build_drape_seconds(), 0);
   const std::string md = *core::ReadFileToString(Path("eval/report.md"));
+  EXPECT_THAT(md, HasSubstr("Build: 5 drapes"));
   EXPECT_THAT(md, HasSubstr("| quadratic | yes |"));
   EXPECT_THAT(md, HasSubstr("skin through the drapes' own cloth"));
   EXPECT_TRUE(fs::exists(Path("eval/female_sportsuit01-M-linear.fbc")));
