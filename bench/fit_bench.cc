@@ -20,6 +20,9 @@
 //     (FitToBody) instead of the body of the weights; counter `moved` is the share of vertices
 //     the clean-up moved (random geometry moves every vertex, the most work a fit can take);
 //   - BM_ProjectAvatar/N: a 13,380-vertex avatar projected onto N components;
+//   - BM_BuildKernelModel/N/S/T: not the fit but the offline build of its model
+//     (BuildKernelClothingModel) from N components' axis examples and S sampled bodies, the
+//     kernel shapes searched on T threads: /T=1 over /T=2 is what the second thread buys;
 //   - BM_FitStoredBasis/0..4 (--clothing=PATH.fbc): a real garment size, the model alone, with
 //     the clean-up, the clean-up without guards, without smoothing, and fitted to a mesh;
 //     BM_FitStoredBasis/5 (with --avatar=PATH.obj --weights=PATH.json, the avatar's projection
@@ -192,6 +195,48 @@ void BM_FitBatch64(benchmark::State& state) {
       benchmark::Counter::kIsRate);
   state.counters["fits_per_second"] =
       benchmark::Counter(kBatch * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+
+// Drapes that follow the weights non-linearly, each vertex its own mix of every component's
+// saturating slide and a bulge, so that the relevance search has reaches to find: D x M.
+Eigen::MatrixXd SyntheticDrapes(const Eigen::VectorXd& sigmas, const Eigen::MatrixXd& weights,
+                                int vertices) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  const Eigen::Index n = sigmas.size();
+  const Eigen::MatrixXd slide =
+      Eigen::MatrixXd::NullaryExpr(3 * vertices, n, [&] { return 0.01 * normal(rng); });
+  const Eigen::MatrixXd bulge =
+      Eigen::MatrixXd::NullaryExpr(3 * vertices, n, [&] { return 0.002 * normal(rng); });
+  const Eigen::MatrixXd z = sigmas.cwiseInverse().asDiagonal() * weights;
+  return slide * z.array().tanh().matrix() + bulge * z.array().square().matrix();
+}
+
+void BM_BuildKernelModel(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0)), sampled = static_cast<int>(state.range(1));
+  constexpr int kVertices = 500;
+  const Eigen::VectorXd sigmas = Eigen::VectorXd::LinSpaced(n, 2.0, 0.2);
+  const clothing::ExampleDesign design = *clothing::MakeExampleDesign(sigmas, 1.0);
+  Eigen::MatrixXd axis(n, design.example_count());
+  for (int e = 0; e < design.example_count(); ++e) axis.col(e) = design.Weights(e);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> normal;
+  clothing::SampledDrapes samples;
+  samples.weights =
+      sigmas.asDiagonal() * Eigen::MatrixXd::NullaryExpr(n, sampled, [&] { return normal(rng); });
+  samples.drapes = SyntheticDrapes(sigmas, samples.weights, kVertices);
+  const Eigen::MatrixXd axis_drapes = SyntheticDrapes(sigmas, axis, kVertices);
+  clothing::KernelBuildReport report;
+  for (auto _ : state) {
+    absl::StatusOr<clothing::ClothingModel> model = clothing::BuildKernelClothingModel(
+        design, axis_drapes, samples, {.threads = static_cast<int>(state.range(2))}, &report);
+    if (!model.ok()) {
+      state.SkipWithError(std::string(model.status().message()).c_str());
+      return;
+    }
+    benchmark::DoNotOptimize(model->basis.data());
+  }
+  state.SetLabel(report.input_scaling + " " + report.shape);
 }
 
 // The kernel model at its largest default: N linear terms, M = 2N + 1 + 400 training bodies
@@ -465,6 +510,12 @@ BENCHMARK(BM_FitCleanup)
     ->Args({30, 8000, clothing::kSmoothingIterations, 1})
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ProjectAvatar)->Arg(10)->Arg(30)->Arg(60)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BuildKernelModel)
+    ->Args({20, 300, 1})
+    ->Args({20, 300, 2})
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kSecond);
 
 }  // namespace
 }  // namespace fitbase

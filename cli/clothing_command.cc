@@ -55,7 +55,8 @@ absl::Status RunClothingBuild(const ClothingFlags& flags) {
       .sampled_drapes = method == clothing::ClothingMethod::kKernel ? flags.samples : 0,
       .sample_seed = flags.sample_seed,
       .settings = {},
-      .schedule = flags.schedule};
+      .schedule = flags.schedule,
+      .model_threads = flags.jobs};
   ASSIGN_OR_RETURN(pipeline::ClothingPlan plan, pipeline::PlanClothingBasis(spec));
   std::vector<const workers::DrapeTask*> tasks;
   for (const workers::DrapeTask& task : plan.tasks) tasks.push_back(&task);
@@ -216,7 +217,9 @@ void AddClothingCommands(CLI::App& app, CliContext& context) {
   build->add_option("--scale", flags->scale,
                     "Examples at mean +- scale x sigma_k along each component (default: 1)")
       ->check(CLI::PositiveNumber);
-  build->add_option("--jobs", flags->jobs, "Drapes side by side (default: 2)")
+  build
+      ->add_option("--jobs", flags->jobs,
+                   "Drapes side by side, and threads of the kernel model's search (default: 2)")
       ->check(CLI::Range(1, 256));
   build->add_option("--cache", flags->cache, "Folder of drape results reused by content key");
   AddDrapeScheduleOptions(build, flags->schedule);

@@ -135,7 +135,8 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
   eval->add_option("--scale", flags->scale,
                    "Examples at mean +- scale x sigma_k (default: 1)")
       ->check(CLI::PositiveNumber);
-  eval->add_option("--jobs", flags->jobs, "Drapes side by side (default: 2)")
+  eval->add_option("--jobs", flags->jobs,
+                   "Drapes side by side, and threads of the kernel model's search (default: 2)")
       ->check(CLI::Range(1, 256));
   eval->add_flag("--no-supports", flags->no_supports,
                  "Drape without the supports for bodies far from the mean (an elastic "

@@ -1,9 +1,13 @@
 #include "clothing/clothing_model.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <optional>
 #include <string>
+#include <thread>
 #include <utility>
+#include <vector>
 
 #include "Eigen/Cholesky"
 #include "Eigen/Eigenvalues"
@@ -198,6 +202,10 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
     return absl::InvalidArgumentError("kernel outputs need an energy in (0, 1] and a count >= 1");
   }
   if (options.shapes.empty()) return absl::InvalidArgumentError("no kernel shape to choose from");
+  if (options.threads < 1) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("kernel shapes need at least one thread; got ", options.threads));
+  }
   ASSIGN_OR_RETURN(ClothingModel model,
                    BuildClothingModel(ClothingMethod::kLinear, design, drapes));
   model.method = ClothingMethod::kKernel;
@@ -263,14 +271,23 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
     // The kernel's shape is chosen like its reaches, by the leave-one-out error, and only where
     // the reaches are (KernelBuildOptions::shapes says why).
     const bool relevance = m >= kRelevanceBodiesPerComponent * n;
-    std::optional<ChosenKernel> best;
-    for (const core::KernelShape shape : options.shapes) {
-      if (!relevance && shape != options.shapes.front()) continue;
-      std::optional<ChosenKernel> fitted = ChooseKernel(shape, features.bottomRows(n), targets,
-                                                        sigma_scale, response_scale);
-      if (fitted && (!best || fitted->ridge.loo_rms < best->ridge.loo_rms)) {
-        best = std::move(fitted);
+    const size_t searched = relevance ? options.shapes.size() : 1;
+    const Eigen::MatrixXd weights = features.bottomRows(n);
+    std::vector<std::optional<ChosenKernel>> fitted(searched);
+    std::atomic<size_t> next{0};
+    const auto search = [&] {
+      for (size_t i = next++; i < searched; i = next++) {
+        fitted[i] = ChooseKernel(options.shapes[i], weights, targets, sigma_scale, response_scale);
       }
+    };
+    std::vector<std::thread> helpers(std::min(searched, static_cast<size_t>(options.threads)) - 1);
+    for (std::thread& helper : helpers) helper = std::thread(search);
+    search();
+    for (std::thread& helper : helpers) helper.join();
+    // In the shapes' order, whichever thread searched them: the same choice for any count.
+    std::optional<ChosenKernel> best;
+    for (std::optional<ChosenKernel>& shape : fitted) {
+      if (shape && (!best || shape->ridge.loo_rms < best->ridge.loo_rms)) best = std::move(shape);
     }
     if (!best) {
       return absl::InvalidArgumentError("the sampled bodies do not differ in their weights");

@@ -105,6 +105,10 @@ struct KernelBuildOptions {
   // garments, and the held-out mean rose on 5 of them (men's six 5.10 to 5.21 mm).
   std::vector<core::KernelShape> shapes = {core::KernelShape::kGaussian,
                                            core::KernelShape::kMatern32};
+  // At most this many shapes searched side by side (>= 1), each on its own thread: a search is
+  // hundreds of eigendecompositions of the bodies' M x M kernel (minutes at M = 1,600), and the
+  // shapes do not depend on each other. The model is the same bytes for any count.
+  int threads = 1;
 };
 
 // How the correction was chosen, for the clothing basis's provenance and the eval report.

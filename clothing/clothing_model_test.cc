@@ -272,6 +272,29 @@ TEST(KernelClothingModelTest, ChoosesTheKernelShapeOfTheLowerLeaveOneOutError) {
               StatusIs(absl::StatusCode::kInvalidArgument, "no kernel shape"));
 }
 
+TEST(KernelClothingModelTest, SearchesTheShapesSideBySideToTheSameBytes) {
+  const ExampleDesign design = Design();
+  KernelBuildReport one_report, two_report;
+  const ClothingModel one = KernelModel(design, &one_report, 120, {.threads = 1});
+  const ClothingModel two = KernelModel(design, &two_report, 120, {.threads = 2});
+  // 120 samples are enough for the relevance search, so both shapes were searched.
+  EXPECT_EQ(two_report.input_scaling, "relevance");
+  EXPECT_EQ(one.basis, two.basis);
+  EXPECT_EQ(one.kernel.shape, two.kernel.shape);
+  EXPECT_EQ(one.kernel.length_scale, two.kernel.length_scale);
+  EXPECT_EQ(one.kernel.input_scale, two.kernel.input_scale);
+  EXPECT_EQ(one.kernel.centers, two.kernel.centers);
+  EXPECT_EQ(one.kernel.coefficients, two.kernel.coefficients);
+  EXPECT_EQ(one_report.loo_rms_mm, two_report.loo_rms_mm);
+  // More threads than shapes: the spare ones find nothing to search.
+  EXPECT_EQ(KernelModel(design, nullptr, 120, {.threads = 8}).basis, one.basis);
+  EXPECT_THAT(BuildKernelClothingModel(
+                  design, ExampleDrapes(design),
+                  {SampleWeights(design, 3, 1), Eigen::MatrixXd::Zero(3 * kVertices, 3)},
+                  {.threads = 0}, nullptr),
+              StatusIs(absl::StatusCode::kInvalidArgument, "at least one thread"));
+}
+
 // The axis examples and the samples of KernelModel, and the least-squares linear model over
 // them: (1 + N) x D, the mean first.
 Eigen::MatrixXd LeastSquaresLinearPart(const ExampleDesign& design, int sample_count) {

@@ -478,11 +478,15 @@ absl::StatusOr<v1::AccuracyReport> EvaluateAccuracy(const body::BodyModel& body_
   std::vector<const workers::DrapeTask*> tasks;
   for (const v1::Garment* garment : spec.garments) {
     GarmentDrapes g;
-    g.spec = {.avatar_basis = &basis_message, .garment = garment, .size = spec.size,
+    g.spec = {.avatar_basis = &basis_message,
+              .garment = garment,
+              .size = spec.size,
               .example_scale = spec.example_scale,
               .sampled_drapes = Wants(spec.methods, "kernel") ? spec.sampled_drapes : 0,
-              .sample_seed = spec.sample_seed, .settings = spec.settings,
-              .schedule = spec.schedule};
+              .sample_seed = spec.sample_seed,
+              .settings = spec.settings,
+              .schedule = spec.schedule,
+              .model_threads = spec.run.jobs};
     ASSIGN_OR_RETURN(g.plan, PlanClothingBasis(g.spec));
     for (const Holdout& h : holdouts) {
       g.truth.push_back(workers::MakeDrapeTask(*garment, spec.size, h.body, spec.settings,

@@ -104,10 +104,10 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
   clothing::ClothingModel model;
   clothing::KernelBuildReport kernel_report;
   if (kernel) {
-    ASSIGN_OR_RETURN(model, clothing::BuildKernelClothingModel(
-                                plan.design, drapes.leftCols(examples_used),
-                                {plan.sample_weights, drapes.rightCols(sampled)}, {},
-                                &kernel_report));
+    ASSIGN_OR_RETURN(
+        model, clothing::BuildKernelClothingModel(plan.design, drapes.leftCols(examples_used),
+                                                  {plan.sample_weights, drapes.rightCols(sampled)},
+                                                  {.threads = spec.model_threads}, &kernel_report));
   } else {
     ASSIGN_OR_RETURN(model, clothing::BuildClothingModel(method, plan.design, drapes));
   }

@@ -28,6 +28,9 @@ struct ClothingBuildSpec {
   uint64_t sample_seed = 1;
   workers::ClothSettings settings;
   workers::DrapeSchedule schedule;
+  // Threads of the kernel model's search (clothing::KernelBuildOptions::threads); the basis is
+  // the same bytes for any count.
+  int model_threads = 1;
 };
 
 // The drapes of one garment size: the 2N + 1 example avatars of the design, then the sampled

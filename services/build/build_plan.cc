@@ -108,9 +108,11 @@ absl::StatusOr<std::unique_ptr<const BuildPlan>> PlanBuild(const storage::AssetS
 }
 
 absl::StatusOr<std::vector<v1::ClothingBasis>> AssembleBuild(const storage::AssetStore& store,
-                                                            const BuildPlan& plan) {
+                                                             const BuildPlan& plan, int threads) {
   std::vector<v1::ClothingBasis> bases;
   for (const BuildPlan::Size& size : plan.sizes) {
+    pipeline::ClothingBuildSpec spec = size.spec;
+    spec.model_threads = threads;
     std::vector<v1::DrapeResult> results(size.plan.tasks.size());
     for (size_t i = 0; i < results.size(); ++i) {
       ASSIGN_OR_RETURN(std::string bytes, store.GetDrapeResult(size.plan.tasks[i].key));
@@ -121,7 +123,7 @@ absl::StatusOr<std::vector<v1::ClothingBasis>> AssembleBuild(const storage::Asse
     }
     for (clothing::ClothingMethod method : plan.methods) {
       ASSIGN_OR_RETURN(v1::ClothingBasis basis,
-                       pipeline::AssembleClothingBasis(size.spec, size.plan, method, results));
+                       pipeline::AssembleClothingBasis(spec, size.plan, method, results));
       bases.push_back(std::move(basis));
     }
   }

@@ -45,9 +45,10 @@ absl::StatusOr<std::unique_ptr<const BuildPlan>> PlanBuild(const storage::AssetS
 std::string BuildTaskId(absl::string_view size, size_t example_index);
 
 // The clothing basis of every size and method, from the stored drape results of the plan's
-// tasks, assembled by AssembleClothingBasis (the local build's code). In size-major order.
+// tasks, assembled by AssembleClothingBasis (the local build's code), each kernel model's
+// search on up to `threads` threads (>= 1). In size-major order.
 absl::StatusOr<std::vector<v1::ClothingBasis>> AssembleBuild(const storage::AssetStore& store,
-                                                            const BuildPlan& plan);
+                                                             const BuildPlan& plan, int threads);
 
 }  // namespace fitbase::build
 

@@ -47,8 +47,10 @@ Coordinator::Coordinator(storage::AssetStore* store, const CoordinatorOptions& o
 
 absl::StatusOr<std::unique_ptr<Coordinator>> Coordinator::Open(
     storage::AssetStore* store, const CoordinatorOptions& options) {
-  if (options.lease <= absl::ZeroDuration() || options.max_attempts == 0) {
-    return absl::InvalidArgumentError("the lease and max_attempts must be positive");
+  if (options.lease <= absl::ZeroDuration() || options.max_attempts == 0 ||
+      options.assembly_threads < 1) {
+    return absl::InvalidArgumentError(
+        "the lease, max_attempts and assembly_threads must be positive");
   }
   std::unique_ptr<Coordinator> coordinator(new Coordinator(store, options));
   RETURN_IF_ERROR(coordinator->Recover());
@@ -591,7 +593,8 @@ void Coordinator::Assemble(const std::string& build_id) {
   std::vector<v1::PublishedClothingBasis> published;
   absl::Status status = [&]() -> absl::Status {
     ASSIGN_OR_RETURN(std::shared_ptr<const BuildPlan> plan, PlanOf(build_id, tenant, request));
-    ASSIGN_OR_RETURN(std::vector<v1::ClothingBasis> bases, AssembleBuild(*store_, *plan));
+    ASSIGN_OR_RETURN(std::vector<v1::ClothingBasis> bases,
+                     AssembleBuild(*store_, *plan, options_.assembly_threads));
     for (const v1::ClothingBasis& basis : bases) {
       const storage::ClothingBasisKey key{plan->tenant, basis.garment_id(), basis.size(),
                                           basis.avatar_basis_id(), basis.method()};

@@ -38,6 +38,9 @@ struct CoordinatorOptions {
   // Build plans kept in memory (PlanCache): tens of MB each, while a queued task costs ~3 KB.
   // Leases take tasks in submission order, so a few plans serve them all.
   size_t cached_plans = 4;
+  // Threads of one kernel model's search when a build is assembled (KernelBuildOptions::threads:
+  // the kernel shapes side by side). The bases are the same bytes for any count.
+  int assembly_threads = 2;
 };
 
 // A build as seen at one moment, and the revision that moment has (for WaitForBuild).
