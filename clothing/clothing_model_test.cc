@@ -286,7 +286,7 @@ TEST(KernelClothingModelTest, SearchesTheShapesSideBySideToTheSameBytes) {
   EXPECT_EQ(one.kernel.centers, two.kernel.centers);
   EXPECT_EQ(one.kernel.coefficients, two.kernel.coefficients);
   EXPECT_EQ(one_report.loo_rms_mm, two_report.loo_rms_mm);
-  // More threads than shapes: the spare ones find nothing to search.
+  // More threads than shapes: one per shape is started, no more.
   EXPECT_EQ(KernelModel(design, nullptr, 120, {.threads = 8}).basis, one.basis);
   EXPECT_THAT(BuildKernelClothingModel(
                   design, ExampleDrapes(design),
