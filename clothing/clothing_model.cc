@@ -1,11 +1,9 @@
 #include "clothing/clothing_model.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <optional>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -14,6 +12,7 @@
 #include "absl/strings/str_cat.h"
 #include "core/kernel_ridge.h"
 #include "core/matrix_vector.h"
+#include "core/parallel_for.h"
 #include "core/status_macros.h"
 
 namespace fitbase::clothing {
@@ -274,16 +273,9 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
     const size_t searched = relevance ? options.shapes.size() : 1;
     const Eigen::MatrixXd weights = features.bottomRows(n);
     std::vector<std::optional<ChosenKernel>> fitted(searched);
-    std::atomic<size_t> next{0};
-    const auto search = [&] {
-      for (size_t i = next++; i < searched; i = next++) {
-        fitted[i] = ChooseKernel(options.shapes[i], weights, targets, sigma_scale, response_scale);
-      }
-    };
-    std::vector<std::thread> helpers(std::min(searched, static_cast<size_t>(options.threads)) - 1);
-    for (std::thread& helper : helpers) helper = std::thread(search);
-    search();
-    for (std::thread& helper : helpers) helper.join();
+    core::ParallelFor(searched, options.threads, [&](size_t i) {
+      fitted[i] = ChooseKernel(options.shapes[i], weights, targets, sigma_scale, response_scale);
+    });
     // In the shapes' order, whichever thread searched them: the same choice for any count.
     std::optional<ChosenKernel> best;
     for (std::optional<ChosenKernel>& shape : fitted) {

@@ -3,9 +3,9 @@
 #include <atomic>
 #include <iostream>
 #include <mutex>
-#include <thread>
 
 #include "absl/strings/str_cat.h"
+#include "core/parallel_for.h"
 #include "pipeline/progress_reporter.h"
 #include "proto/message_file.h"
 
@@ -38,7 +38,6 @@ absl::StatusOr<std::vector<v1::DrapeResult>> RunDrapeTasks(
                                                  options.cache_dir.string(), ": ", ec.message()));
     }
   }
-  std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
   std::mutex mutex;
   absl::Status first_error;
@@ -46,30 +45,26 @@ absl::StatusOr<std::vector<v1::DrapeResult>> RunDrapeTasks(
   ProgressReporter progress(options.label, static_cast<int64_t>(tasks.size()), std::cerr,
                             StderrIsTerminal());
   progress.Update(done);
-  auto work = [&] {
-    for (size_t p = next++; p < pending.size() && !failed; p = next++) {
-      const workers::DrapeTask& task = *tasks[pending[p]];
-      absl::StatusOr<v1::DrapeResult> result = workers::RunDrapeTask(task);
-      absl::Status status = result.status();
-      if (status.ok() && !options.cache_dir.empty()) {
-        status = proto::WriteMessageFile(CachePath(options, task.key), *result);
-      }
-      std::lock_guard<std::mutex> lock(mutex);
-      if (!status.ok()) {
-        if (!failed.exchange(true)) {
-          first_error = absl::Status(status.code(),
-                                     absl::StrCat("drape ", task.key, ": ", status.message()));
-        }
-        return;
-      }
-      results[pending[p]] = *std::move(result);
-      progress.Update(++done);
+  // After the first error the remaining drapes are skipped, not run: the call fails anyway.
+  core::ParallelFor(pending.size(), options.jobs, [&](size_t p) {
+    if (failed) return;
+    const workers::DrapeTask& task = *tasks[pending[p]];
+    absl::StatusOr<v1::DrapeResult> result = workers::RunDrapeTask(task);
+    absl::Status status = result.status();
+    if (status.ok() && !options.cache_dir.empty()) {
+      status = proto::WriteMessageFile(CachePath(options, task.key), *result);
     }
-  };
-  std::vector<std::thread> threads;
-  const size_t thread_count = std::min<size_t>(std::max(options.jobs, 1), pending.size());
-  for (size_t j = 0; j < thread_count; ++j) threads.emplace_back(work);
-  for (std::thread& thread : threads) thread.join();
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!status.ok()) {
+      if (!failed.exchange(true)) {
+        first_error =
+            absl::Status(status.code(), absl::StrCat("drape ", task.key, ": ", status.message()));
+      }
+      return;
+    }
+    results[pending[p]] = *std::move(result);
+    progress.Update(++done);
+  });
   if (failed) return first_error;
   progress.Finish();
   return results;
