@@ -812,8 +812,9 @@ int Main(int argc, char** argv) {
   app.add_option("--path-iterations", settings.path_newton_iterations,
                  "Newton iterations per step while the body moves (default: ClothSettings's)")
       ->check(CLI::Range(1, 1000));
-  app.add_option("--tie-limit", settings.tie_limit,
-                 "Stiction's largest force in the vertex's weights (0: none, the default)");
+  app.add_option("--friction", settings.friction,
+                 "Coulomb friction's mu in place of the stiction (0: the stiction, the default)")
+      ->check(CLI::Range(0.0, workers::kMaxFriction));
   app.add_option("--skin-tie", settings.skin_tie,
                  "Stiction, N/m per kg of cloth (default: ClothSettings's)")
       ->check(CLI::PositiveNumber);
@@ -840,6 +841,11 @@ int Main(int argc, char** argv) {
   app.add_option("--out", out, "Folder for the imported garments (reused when present)");
   app.add_option("--rows", rows, "CSV file for one row per drape of the population table");
   CLI11_PARSE(app, argc, argv);
+  // CLI11's range lets NaN through.
+  if (!(settings.friction >= 0)) {
+    std::cerr << "--friction: expected mu from 0 to " << workers::kMaxFriction << "\n";
+    return 2;
+  }
   if (unsupported) settings = workers::WithoutSupports(settings);
 
   v1::AvatarBasis basis;

@@ -25,6 +25,7 @@ struct DrapeFlags {
   std::string report;
   std::string method = "drape";
   bool no_supports = false;
+  double friction = 0;
   workers::DrapeSchedule schedule;
 };
 
@@ -33,20 +34,25 @@ absl::Status RunDrape(const DrapeFlags& flags) {
     return absl::InvalidArgumentError(
         absl::StrCat("--method is '", flags.method, "'; expected drape or geometric"));
   }
-  if (flags.no_supports && flags.method != "drape") {
-    return absl::InvalidArgumentError("--no-supports is a setting of the physics drape only");
+  if (!(flags.friction >= 0 && flags.friction <= workers::kMaxFriction)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--friction is ", flags.friction, "; expected mu from 0 to ", workers::kMaxFriction));
   }
+  if ((flags.no_supports || flags.friction > 0) && flags.method != "drape") {
+    return absl::InvalidArgumentError(
+        "--no-supports and --friction are settings of the physics drape only");
+  }
+  workers::ClothSettings settings;
+  if (flags.no_supports) settings = workers::WithoutSupports(settings);
+  settings.friction = flags.friction;
   v1::Garment garment;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.garment, &garment));
   ASSIGN_OR_RETURN(core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
-  ASSIGN_OR_RETURN(workers::GarmentFit fit,
-                   flags.method == "drape"
-                       ? workers::DrapeGarment(
-                             garment, flags.size, avatar.positions,
-                             flags.no_supports ? workers::WithoutSupports({})
-                                               : workers::ClothSettings{},
-                             flags.schedule)
-                       : workers::GeometricFit(garment, flags.size, avatar.positions));
+  ASSIGN_OR_RETURN(
+      workers::GarmentFit fit,
+      flags.method == "drape"
+          ? workers::DrapeGarment(garment, flags.size, avatar.positions, settings, flags.schedule)
+          : workers::GeometricFit(garment, flags.size, avatar.positions));
   ASSIGN_OR_RETURN(core::GarmentMesh mesh, proto::GarmentTemplateFromProto(garment));
   mesh.mesh.positions = fit.positions;
   RETURN_IF_ERROR(core::WriteGarmentObj(flags.out, mesh));
@@ -117,6 +123,11 @@ void AddDrapeCommand(CLI::App& app, CliContext& context) {
   drape->add_flag("--no-supports", flags->no_supports,
                   "Without the supports for bodies far from the mean (an elastic waistband "
                   "and collars held at their height), as drapes were before them");
+  drape
+      ->add_option("--friction", flags->friction,
+                   "Coulomb friction's mu in place of the ties to the skin (default: 0, the "
+                   "ties)")
+      ->check(CLI::Range(0.0, workers::kMaxFriction));
   drape->callback([&context, flags] { context.action = [flags] { return RunDrape(*flags); }; });
 }
 

@@ -123,8 +123,27 @@ TEST_F(GarmentCliTest, TurningTheSupportsOffChangesTheDrapeAndIsTheDrapesOnly) {
   geometric.insert(geometric.end(), {(*dir_ / "geo.obj").string(), "--method", "geometric"});
   const Result bad = RunFitbase(geometric);
   EXPECT_NE(bad.exit_code, 0);
-  EXPECT_THAT(bad.err, HasSubstr("--no-supports is a setting of the physics drape only"));
+  EXPECT_THAT(bad.err,
+              HasSubstr("--no-supports and --friction are settings of the physics drape only"));
   EXPECT_FALSE(fs::exists(*dir_ / "geo.obj"));
+}
+
+TEST_F(GarmentCliTest, FrictionInPlaceOfTheTiesChangesTheDrape) {
+  ASSERT_EQ(Drape("M", "tied").exit_code, 0);
+  const std::string garment = (*dir_ / "g.fbg").string();
+  const Result r = RunFitbase({"drape", "--garment", garment, "--avatar", Avatar().string(),
+                               "--friction", "0.8", "--out", (*dir_ / "friction.obj").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("waistband"));
+  EXPECT_NE(*core::ReadFileToString(*dir_ / "friction.obj"),
+            *core::ReadFileToString(*dir_ / "tied.obj"));
+  for (const char* mu : {"-0.1", "nan", "11"}) {
+    const Result bad = RunFitbase({"drape", "--garment", garment, "--avatar", Avatar().string(),
+                                   "--friction", mu, "--out", (*dir_ / "bad.obj").string()});
+    EXPECT_NE(bad.exit_code, 0) << mu;
+    EXPECT_THAT(bad.err, HasSubstr("--friction")) << mu;
+  }
+  EXPECT_FALSE(fs::exists(*dir_ / "bad.obj"));
 }
 
 TEST_F(GarmentCliTest, ImportsARetailersPlacedObj) {

@@ -42,6 +42,10 @@ constexpr double kClearanceRounding = 1e-9;
 // Armijo line search: sufficient decrease, and how often the step may be halved.
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 12;
+// With friction, the slip (m) at which a vertex's hold reaches mu times its normal force: a
+// stiff spring for static friction, which a millimetre keeps below the garment's edge lengths
+// and above the Newton tolerance.
+constexpr double kStaticSlip = 1e-3;
 // A push out of the body may halve its lift this often to fit between the sides of a crease,
 // or double it this often to leave a crease whose sides touch, along it.
 constexpr int kMaxPushHalvings = 5;
@@ -307,6 +311,7 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
   garment_bvh_.emplace(*core::TriangleBvh::Build(positions_, model_.triangles));
   pattern_ = std::make_unique<HessianPattern>(model_, &cholesky_);
   last_body_ = body.positions();
+  if (settings_.friction > 0) SlipTies(body);
 }
 
 ClothSolver::~ClothSolver() = default;
@@ -332,12 +337,48 @@ double ClothSolver::Step(const core::TriangleBvh& body) {
   clearances_ = Eigen::VectorXd::Constant(positions_.rows(),
                                           -std::numeric_limits<double>::infinity());
   const int iterations =
-      body_moved ? std::min(settings_.path_newton_iterations, settings_.newton_iterations)
-                 : settings_.newton_iterations;
+      body_moved && settings_.friction == 0
+          ? std::min(settings_.path_newton_iterations, settings_.newton_iterations)
+          : settings_.newton_iterations;
   for (int i = 0; i < iterations; ++i) {
     if (!(NewtonIteration(body) > settings_.newton_tolerance)) break;
   }
+  if (settings_.friction > 0) SlipTies(body);
   return (positions_ - step_start_).rowwise().norm().maxCoeff();
+}
+
+void ClothSolver::SlipTies(const core::TriangleBvh& body) {
+  // At construction there is no step yet, and the ties are where the vertices are.
+  if (!tie_normal_forces_.empty()) {
+    for (size_t i = 0; i < ties_.size(); ++i) {
+      SkinTie& tie = ties_[i];
+      const Eigen::Vector3d& normal = tie_holds_[i].normal;
+      const Eigen::Vector3d slip = (Eigen::Matrix3d::Identity() - normal * normal.transpose()) *
+                                   (positions_.row(tie.vertex).transpose() - tie_holds_[i].target);
+      const double s = slip.norm();
+      if (s <= kStaticSlip) continue;
+      const Eigen::Vector3d carried = (s - kStaticSlip) / s * slip;
+      const core::SurfacePoint hit = body.Closest(OnSkin(body, tie.skin) + carried,
+                                                  settings_.collision_search, tie.skin.triangle);
+      // Carried farther than the search from the skin (a fold pulled off a concave crease),
+      // the hold stays on its triangle.
+      const SkinPoint skin = hit.found ? SkinPoint{hit.triangle, hit.barycentric} : tie.skin;
+      const Eigen::Vector3d target = tie_holds_[i].target + carried;
+      tie.skin = skin;
+      tie.offset = target - OnSkin(body, skin);
+      tie_holds_[i] = {
+          target,
+          core::TriangleCross(body.positions(), body.triangles(), skin.triangle).normalized()};
+    }
+  }
+  Evaluation contact;
+  contact.gradient = Eigen::VectorXd::Zero(3 * positions_.rows());
+  contact.hessian = Eigen::VectorXd::Zero(pattern_->ValueCount());
+  AddContacts(positions_, body, /*derivatives=*/true, &contact);
+  tie_normal_forces_.resize(ties_.size());
+  for (size_t i = 0; i < ties_.size(); ++i) {
+    tie_normal_forces_[i] = contact.gradient.segment<3>(3 * ties_[i].vertex).norm();
+  }
 }
 
 double ClothSolver::NewtonIteration(const core::TriangleBvh& body) {
@@ -406,19 +447,22 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     block(1, 1) = a.stiffness;
     pattern_->AddVertex(a.vertex, block, out->hessian);
   }
-  // The slip at which a tie reaches its limit (ClothSettings::tie_limit), m.
-  const double yield = settings_.tie_limit * settings_.gravity / settings_.skin_tie;
+  const bool friction = settings_.friction > 0;
   for (size_t i = 0; i < ties_.size(); ++i) {
     const SkinTie& tie = ties_[i];
+    if (friction && tie_normal_forces_[i] == 0) continue;
     const Eigen::Vector3d& normal = tie_holds_[i].normal;
     const Eigen::Matrix3d tangential =
         Eigen::Matrix3d::Identity() - normal * normal.transpose();
-    const double k = settings_.skin_tie * masses_(tie.vertex);
+    // Friction's hold reaches mu N at kStaticSlip; the stiction is a spring without limit.
+    const double k = friction ? settings_.friction * tie_normal_forces_[i] / kStaticSlip
+                              : settings_.skin_tie * masses_(tie.vertex);
+    const double yield = kStaticSlip;
     const Eigen::Vector3d slip =
         tangential * (x.row(tie.vertex).transpose() - tie_holds_[i].target);
-    // Up to the yield slip the tie is a spring, beyond it a constant force against the slip.
+    // Up to the yield slip the hold is a spring, beyond it a constant force against the slip.
     const double s = slip.norm();
-    if (settings_.tie_limit == 0 || s <= yield) {
+    if (!friction || s <= yield) {
       out->energy += 0.5 * k * s * s;
       if (!derivatives) continue;
       out->gradient.segment<3>(3 * tie.vertex) += k * slip;

@@ -86,12 +86,27 @@ struct ClothSettings {
   // male_worksuit01's T-shirt comes into and out of contact between nearby bodies (p99 2.6 mm
   // at 0.1 sigma, 1.2 at 20 N/m; at 50 N/m it is 1.7 and female_casualsuit02's 2.1).
   double anchor_stiffness = 200;
-  // Stiction, N/m per kg of cloth: each vertex is held, along the body surface only, to the
-  // point of the skin it started over, as it moves with the body. Without it a frictionless
-  // garment has a continuum of resting places (it may slide around a limb or settle a fold to
-  // either side) and the path decides; with it the drape is one smooth function of the body.
+  // Stiction, N/m per kg of cloth (without `friction`, below): each vertex is held, along the
+  // body surface only, to the point of the skin it started over, as it moves with the body.
+  // Without it a frictionless garment has a continuum of resting places (it may slide around a
+  // limb or settle a fold to either side) and the path decides; with it the drape is one
+  // smooth function of the body.
   // Weak next to the stretch springs: it does not stop a garment stretching or lifting off.
   double skin_tie = 1e4;
+  // With `friction` > 0 the ties are Coulomb friction instead (issue "The drape is true far
+  // from the mean"): a vertex is held to its skin point up to mu times its contact's normal
+  // force, then slips, and the place it slipped to is where it is held from then on. The
+  // normal force is the contact's at the end of the previous step (lagged, as IPC does); a
+  // vertex off the body is not held. Below 1 mm of slip (kStaticSlip) the hold is a spring
+  // reaching the limit there, so each step's energy stays smooth for Newton. Every step of the
+  // path is solved to the tolerance (path_newton_iterations is not used): friction has
+  // memory, and a step stopped short leaves it in a place that depends on the step count
+  // (female_casualsuit01 at mu 0.4 with 4 iterations a path step: second difference p99
+  // 22.6 mm at 0.1 sigma, doubling the schedule moved it 3.3 mm; solved, 4.2 mm and 0.17 mm).
+  // Off by default: the drape kinks wherever a vertex turns from sticking to slipping, and
+  // over the population's 2% tails it keeps female_casualsuit01's band on the rise and raises
+  // its hems less well than the ties with the supports (README, "Coulomb friction").
+  double friction = 0;
   // Supports for bodies far from the mean (README, "Bodies far from the mean"; issue "The drape
   // is true far from the mean"): an elastic waistband held at its height, below, and collars
   // held at theirs, above. On by default: without them a tall body's stiction drags leggings'
@@ -102,17 +117,6 @@ struct ClothSettings {
   // drapes no worse: kernel 5.41 mm against 5.54 at 100 samples, 4.08 against 4.08 at 400,
   // with less skin through the cloth (0.37% against 0.47%); with the collars held, 4.83 mm
   // against 4.97 on four garments at 100 samples. WithoutSupports turns them off, to compare.
-  // With `tie_limit` > 0 the stiction gives way like friction: its force grows with the slip
-  // up to `tie_limit` times the vertex's weight, then stays (a Huber energy). Unbounded, the
-  // ties of a whole trouser leg drag the hems down with the ankles of a tall body and the
-  // waistband with them; bounded, cloth slides along a longer limb and hems ride up. The limit
-  // is per vertex, not mu times the contact's normal force: Coulomb friction lagged a step (as
-  // IPC does) made the drape depend on the path (female_casualsuit01: second difference 50 mm
-  // at 0.1 sigma, doubling the schedule moved it 12 mm). Not among the supports: where a tie
-  // gives way the cloth has a range of resting places and the drape jumped between them from
-  // one body to the next (male_casualsuit05 at 0.1 sigma: p99 8.5 mm with the limit at 5,
-  // 0.66 without), and the waistband's anchor alone keeps the band up. Off by default.
-  double tie_limit = 0;
   // With `waistband_stiffness` > 0 a waistband (the highest opening of trousers and skirts,
   // round the torso: FindSupports) is elastic: its boundary edges carry an elastic of rest
   // length `waistband_grip` times the size's, of that stiffness (N/m), and the fabric along it
@@ -155,6 +159,10 @@ inline constexpr char kSimulatorVersion[] = "fitbase-newton-13";
 
 // N/m holding collars and waistbands at their height without the supports.
 inline constexpr double kUnsupportedAnchorStiffness = 20;
+
+// The largest ClothSettings::friction a drape takes. Cloth on skin is about 0.3 to 0.8; far
+// above, the static hold's stiffness (mu N per millimetre) would swamp the Newton systems.
+inline constexpr double kMaxFriction = 10;
 
 // `settings` with the supports for bodies far from the mean off: no elastic, and the waistband
 // and collars held at kUnsupportedAnchorStiffness, as every drape was before them (simulator
@@ -214,7 +222,8 @@ class ClothSolver {
   struct SkinTie {
     int32_t vertex;
     SkinPoint skin;
-    Eigen::Vector3d offset;  // Start position minus the skin point, m.
+    // Where the vertex is held minus the skin point, m: at the start, its start position's.
+    Eigen::Vector3d offset;
   };
   struct AnchorBinding {
     int32_t vertex;
@@ -267,6 +276,10 @@ class ClothSolver {
   // by clearances_.
   void AddContacts(const core::Positions& x, const core::TriangleBvh& body, bool derivatives,
                    Evaluation* out) const;
+  // With ClothSettings::friction, after a step on `body`: carries each tie that slipped past
+  // kStaticSlip along with its vertex, to kStaticSlip behind it, and takes each tied vertex's
+  // contact normal force for the next step.
+  void SlipTies(const core::TriangleBvh& body);
   // One Newton iteration towards the step's minimum; returns the largest vertex move (m), 0
   // when it made no progress.
   double NewtonIteration(const core::TriangleBvh& body);
@@ -295,6 +308,9 @@ class ClothSolver {
     Eigen::Vector3d normal;
   };
   std::vector<TieHold> tie_holds_;
+  // Per ties_, with ClothSettings::friction: the normal force of the body's contact on the
+  // vertex at the end of the last step (or at the start), N.
+  std::vector<double> tie_normal_forces_;
   std::vector<bool> waistband_edge_;  // Per model edge.
   std::vector<Poke> pokes_;
   std::optional<core::TriangleBvh> garment_bvh_;

@@ -12,14 +12,13 @@ std::string SimulatorDescription(const ClothSettings& s, const DrapeSchedule& sc
   return absl::StrFormat(
       "%s step=%.17g newton=%d tolerance=%.17g path_newton=%d gravity=%.17g density=%.17g "
       "stretch=%.17g compression=%.17g area_floor=%.17g bending=%.17g anchor=%.17g tie=%.17g "
-      "tie_limit=%.17g grip=%.17g band_stiffness=%.17g band_anchor=%.17g band_on_rise=%d "
+      "friction=%.17g grip=%.17g band_stiffness=%.17g band_anchor=%.17g band_on_rise=%d "
       "contact=%.17g offset=%.17g search=%.17g factorization=%s homotopy=%d relax=%d",
       kSimulatorVersion, s.step_seconds, s.newton_iterations, s.newton_tolerance,
       s.path_newton_iterations, s.gravity, s.areal_density, s.stretch_stiffness,
-      s.compression_stiffness, s.area_floor,
-      s.bending_rigidity, s.anchor_stiffness, s.skin_tie, s.tie_limit, s.waistband_grip,
-      s.waistband_stiffness, s.waistband_anchor_stiffness, s.waistband_on_rise ? 1 : 0,
-      s.contact_stiffness, s.collision_offset, s.collision_search,
+      s.compression_stiffness, s.area_floor, s.bending_rigidity, s.anchor_stiffness, s.skin_tie,
+      s.friction, s.waistband_grip, s.waistband_stiffness, s.waistband_anchor_stiffness,
+      s.waistband_on_rise ? 1 : 0, s.contact_stiffness, s.collision_offset, s.collision_search,
       s.factorization == Factorization::kSimplicialLdlt ? "simplicial" : "supernodal",
       schedule.homotopy_steps, schedule.relax_steps);
 }

@@ -62,7 +62,7 @@ v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedu
   proto.set_bending_rigidity(s.bending_rigidity);
   proto.set_anchor_stiffness(s.anchor_stiffness);
   proto.set_skin_tie(s.skin_tie);
-  proto.set_tie_limit(s.tie_limit);
+  proto.set_friction(s.friction);
   proto.set_waistband_grip(s.waistband_grip);
   proto.set_waistband_stiffness(s.waistband_stiffness);
   proto.set_waistband_anchor_stiffness(s.waistband_anchor_stiffness);
@@ -94,7 +94,11 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   RETURN_IF_ERROR(CheckNonNegative("bending_rigidity", p.bending_rigidity()));
   RETURN_IF_ERROR(CheckNonNegative("anchor_stiffness", p.anchor_stiffness()));
   RETURN_IF_ERROR(CheckNonNegative("skin_tie", p.skin_tie()));
-  RETURN_IF_ERROR(CheckNonNegative("tie_limit", p.tie_limit()));
+  RETURN_IF_ERROR(CheckNonNegative("friction", p.friction()));
+  if (p.friction() > kMaxFriction) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("drape setting friction = ", p.friction(), " is over ", kMaxFriction));
+  }
   RETURN_IF_ERROR(CheckShare("waistband_grip", p.waistband_grip()));
   RETURN_IF_ERROR(CheckNonNegative("waistband_stiffness", p.waistband_stiffness()));
   RETURN_IF_ERROR(
@@ -121,7 +125,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
                             .bending_rigidity = p.bending_rigidity(),
                             .anchor_stiffness = p.anchor_stiffness(),
                             .skin_tie = p.skin_tie(),
-                            .tie_limit = p.tie_limit(),
+                            .friction = p.friction(),
                             .waistband_grip = p.waistband_grip(),
                             .waistband_stiffness = p.waistband_stiffness(),
                             .waistband_anchor_stiffness = p.waistband_anchor_stiffness(),

@@ -95,6 +95,14 @@ TEST_F(DrapeTaskSpecTest, RefusesBadBodiesAndSettingsNamingTheProblem) {
   EXPECT_THAT(DrapeTaskFromSpec(spec),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "area_floor"));
   spec = good;
+  spec.mutable_settings()->set_friction(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "friction"));
+  spec = good;
+  spec.mutable_settings()->set_friction(1e6);
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "friction = 1e+06 is over 10"));
+  spec = good;
   spec.mutable_settings()->set_relax_steps(1000000);
   EXPECT_THAT(DrapeTaskFromSpec(spec),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "relax_steps"));
