@@ -104,12 +104,12 @@ struct ClothSettings {
   // (female_casualsuit01 at mu 0.4 with 4 iterations a path step: second difference p99
   // 22.6 mm at 0.1 sigma, doubling the schedule moved it 3.3 mm; solved, 4.2 mm and 0.17 mm).
   // Off by default (README, "Coulomb friction"): at mu 0.8, the best of 0.2, 0.4 and 0.8 on
-  // female_casualsuit01, two of four garments tried jump between nearby bodies at the average
-  // body (female_elegantsuit01 p99 2.7 mm, male_worksuit01 7.0, against 1.5 and 2.6 with the
-  // ties); over the population's 2% tails the hems ride up less, and male_worksuit01, too
-  // short for the tallest body, slides its straps 19 cm down it with 0.7% of its vertices
-  // inside (with the ties its straps move at most 1.8 cm over the tails, and no vertex is
-  // inside); and a drape takes 3 to 6 times as long.
+  // female_casualsuit01, six of the 12 garments jump between nearby bodies at the average body
+  // (p99 2.3 to 43.7 mm at 0.1 sigma, against one with the ties); over the population's 2%
+  // tails the hems ride up less, and male_worksuit01, too short for the tallest body, slides
+  // its straps 19 cm down it with 0.7% of its vertices inside (with the ties its straps move
+  // at most 1.8 cm over the tails, and no vertex is inside); and a drape takes 3 to 6 times
+  // as long.
   double friction = 0;
   // Supports for bodies far from the mean (README, "Bodies far from the mean"; issue "The drape
   // is true far from the mean"): an elastic waistband held at its height, below, and collars
