@@ -108,7 +108,7 @@ struct ClothSettings {
   // (p99 2.3 to 43.7 mm at 0.1 sigma, against one with the ties); over the population's 2%
   // tails the hems ride up less, and male_worksuit01, too short for the tallest body, slides
   // its straps 19 cm down it with 0.7% of its vertices inside (with the ties its straps move
-  // at most 1.8 cm over the tails, and no vertex is inside); and a drape takes 3 to 6 times
+  // at most 1.8 cm over the tails, and no vertex is inside); and a drape takes 2 to 6.5 times
   // as long.
   double friction = 0;
   // Supports for bodies far from the mean (README, "Bodies far from the mean"; issue "The drape
