@@ -842,8 +842,8 @@ int Main(int argc, char** argv) {
   app.add_option("--rows", rows, "CSV file for one row per drape of the population table");
   CLI11_PARSE(app, argc, argv);
   // CLI11's range lets NaN through.
-  if (!(settings.friction >= 0)) {
-    std::cerr << "--friction: expected mu from 0 to " << workers::kMaxFriction << "\n";
+  if (absl::Status friction = workers::CheckFriction(settings.friction); !friction.ok()) {
+    std::cerr << "--" << friction.message() << "\n";
     return 2;
   }
   if (unsupported) settings = workers::WithoutSupports(settings);

@@ -34,9 +34,8 @@ absl::Status RunDrape(const DrapeFlags& flags) {
     return absl::InvalidArgumentError(
         absl::StrCat("--method is '", flags.method, "'; expected drape or geometric"));
   }
-  if (!(flags.friction >= 0 && flags.friction <= workers::kMaxFriction)) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "--friction is ", flags.friction, "; expected mu from 0 to ", workers::kMaxFriction));
+  if (absl::Status friction = workers::CheckFriction(flags.friction); !friction.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("--", friction.message()));
   }
   if ((flags.no_supports || flags.friction > 0) && flags.method != "drape") {
     return absl::InvalidArgumentError(

@@ -7,6 +7,7 @@
 
 #include "Eigen/Geometry"
 #include "Eigen/SparseCore"
+#include "absl/strings/str_cat.h"
 #include "body/body_measurements.h"
 #include "body/body_model.h"
 #include "core/dihedral_angle.h"
@@ -71,6 +72,17 @@ double RiseOf(const core::Positions& body) {
 }
 
 }  // namespace
+
+absl::Status CheckFriction(double mu) {
+  if (!std::isfinite(mu) || mu < 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("friction = ", mu, " must be finite and not negative"));
+  }
+  if (mu > kMaxFriction) {
+    return absl::InvalidArgumentError(absl::StrCat("friction = ", mu, " is over ", kMaxFriction));
+  }
+  return absl::OkStatus();
+}
 
 Eigen::Vector3d ClothSolver::OnSkin(const core::TriangleBvh& body, const SkinPoint& skin) {
   const auto tri = body.triangles().row(skin.triangle);

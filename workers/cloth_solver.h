@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "Eigen/Core"
+#include "absl/status/status.h"
 #include "core/mesh.h"
 #include "core/triangle_bvh.h"
 #include "workers/cloth_model.h"
@@ -167,6 +168,11 @@ inline constexpr double kUnsupportedAnchorStiffness = 20;
 // The largest ClothSettings::friction a drape takes. Cloth on skin is about 0.3 to 0.8; far
 // above, the static hold's stiffness (mu N per millimetre) would swamp the Newton systems.
 inline constexpr double kMaxFriction = 10;
+
+// InvalidArgument, naming `friction` and its value, unless `mu` is finite and in
+// [0, kMaxFriction]: the one check of ClothSettings::friction for every caller (a build's spec,
+// the command line, the bench).
+absl::Status CheckFriction(double mu);
 
 // `settings` with the supports for bodies far from the mean off: no elastic, and the waistband
 // and collars held at kUnsupportedAnchorStiffness, as every drape was before them (simulator

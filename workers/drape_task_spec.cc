@@ -94,10 +94,8 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   RETURN_IF_ERROR(CheckNonNegative("bending_rigidity", p.bending_rigidity()));
   RETURN_IF_ERROR(CheckNonNegative("anchor_stiffness", p.anchor_stiffness()));
   RETURN_IF_ERROR(CheckNonNegative("skin_tie", p.skin_tie()));
-  RETURN_IF_ERROR(CheckNonNegative("friction", p.friction()));
-  if (p.friction() > kMaxFriction) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("drape setting friction = ", p.friction(), " is over ", kMaxFriction));
+  if (absl::Status friction = CheckFriction(p.friction()); !friction.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("drape setting ", friction.message()));
   }
   RETURN_IF_ERROR(CheckShare("waistband_grip", p.waistband_grip()));
   RETURN_IF_ERROR(CheckNonNegative("waistband_stiffness", p.waistband_stiffness()));
