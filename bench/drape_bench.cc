@@ -677,6 +677,37 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
           100 * skin.share(), 100 * skin_worst, failed);
     }
   }
+  bool any_cuffs = false;
+  for (const Row& r : rows) any_cuffs |= r.fit.ok() && r.fit->report.has_cuff_gap_mm();
+  if (any_cuffs) {
+    std::printf(
+        "\ncuffs (declared at import): their vertices' mean distance from the skin, mm, on the "
+        "mean avatar, averaged over the drapes and on the worst drape (the contact offset is "
+        "%.1f); the leg cuffs' heights are the hem table's\n",
+        1000 * settings.collision_offset);
+    std::printf("%-22s %-4s %6s %6s %8s %8s %8s\n", "garment", "size", "drapes", "cuffs", "on_mean",
+                "average", "worst");
+    for (size_t g = 0; g < imported.size(); ++g) {
+      for (const std::string& size : sizes) {
+        int count = 0;
+        uint32_t cuff_count = 0;
+        double on_mean = -1, sum = 0, worst = 0;
+        for (const Row& r : rows) {
+          if (r.garment != g || r.size != size || !r.fit.ok()) continue;
+          const v1::DrapeReport& report = r.fit->report;
+          if (!report.has_cuff_gap_mm()) continue;
+          ++count;
+          cuff_count = report.cuff_count();
+          sum += report.cuff_gap_mm();
+          worst = std::max(worst, report.cuff_gap_mm());
+          if (r.body.name == "mean") on_mean = report.cuff_gap_mm();
+        }
+        if (count == 0) continue;
+        std::printf("%-22s %-4s %6d %6u %8.1f %8.1f %8.1f\n", imported[g].name().c_str(),
+                    size.c_str(), count, cuff_count, on_mean, sum / count, worst);
+      }
+    }
+  }
   std::printf(
       "\nleg hems above the ankle (cm) by inside leg (cm), size M, with the waistband above the "
       "navel and the collar above the neck base (cm):\n");
@@ -788,6 +819,7 @@ int Main(int argc, char** argv) {
   bool smoothness = false, smoothness_only = false, supports = false, speed = false;
   bool unsupported = false;
   int extremes = 10;
+  std::string cuffs;
   workers::ClothSettings settings;
   app.add_option("--basis", basis_path, "Avatar basis (.fbb) with avatar parameters")->required();
   app.add_option("--data", data, "MakeHuman data folder");
@@ -838,6 +870,9 @@ int Main(int argc, char** argv) {
       ->excludes(band_stiffness)
       ->excludes(band_grip)
       ->excludes(band_anchor);
+  app.add_option("--cuffs", cuffs,
+                 "Import every garment with these openings declared elastic cuffs: sleeves, "
+                 "legs or both (fitbase garment import --cuffs)");
   app.add_option("--out", out, "Folder for the imported garments (reused when present)");
   app.add_option("--rows", rows, "CSV file for one row per drape of the population table");
   CLI11_PARSE(app, argc, argv);
@@ -847,6 +882,11 @@ int Main(int argc, char** argv) {
     return 2;
   }
   if (unsupported) settings = workers::WithoutSupports(settings);
+  const absl::StatusOr<v1::ElasticCuffs> declared_cuffs = pipeline::ParseCuffs(cuffs);
+  if (!declared_cuffs.ok()) {
+    std::cerr << "--" << declared_cuffs.status().message() << "\n";
+    return 2;
+  }
 
   v1::AvatarBasis basis;
   if (auto s = proto::ReadMessageFile(basis_path, &basis); !s.ok()) {
@@ -886,7 +926,10 @@ int Main(int argc, char** argv) {
     paths.mhclo = std::filesystem::path(data) / "clothes" / name / (name + ".mhclo");
     absl::StatusOr<pipeline::GarmentImportRequest> request =
         pipeline::ReadGarmentImportFiles(paths);
-    if (request.ok()) request->sizes = size_list;
+    if (request.ok()) {
+      request->sizes = size_list;
+      request->cuffs = *declared_cuffs;
+    }
     // A cached import is reused only if importing anew would give it the same id (same
     // basis, files, sizes and importer version).
     const absl::StatusOr<std::string> id =

@@ -85,6 +85,10 @@ absl::Status RunDrape(const DrapeFlags& flags) {
     absl::StrAppendFormat(&supports, " leg hems %+.1f cm above the ankle;",
                           r.hem_above_ankle_mm() / 10);
   }
+  if (r.has_cuff_gap_mm()) {
+    absl::StrAppendFormat(&supports, " %u elastic cuffs %.1f mm from the skin;", r.cuff_count(),
+                          r.cuff_gap_mm());
+  }
   if (!supports.empty()) {
     supports.pop_back();
     std::cout << "supports:" << supports << "\n";

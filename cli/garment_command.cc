@@ -22,6 +22,7 @@ struct GarmentFlags {
   std::string basis;
   std::string name;
   std::string type;
+  std::string cuffs;
   std::string sizes = "S,M,L,XL";
   std::vector<std::string> size_meshes;
   std::string out;
@@ -46,6 +47,7 @@ absl::StatusOr<pipeline::GarmentImportRequest> ReadRequest(const GarmentFlags& f
   request.name = flags.name;
   request.sizes = absl::StrSplit(flags.sizes, ',', absl::SkipWhitespace());
   request.garment_type = flags.type;
+  ASSIGN_OR_RETURN(request.cuffs, pipeline::ParseCuffs(flags.cuffs));
   return request;
 }
 
@@ -78,6 +80,7 @@ absl::Status RunUpload(const GarmentFlags& flags) {
   if (request.mhclo.has_value()) *upload.mutable_mhclo() = ToProto(*request.mhclo);
   for (const std::string& size : request.sizes) upload.add_sizes(size);
   upload.set_garment_type(request.garment_type);
+  if (request.cuffs.sleeves() || request.cuffs.legs()) *upload.mutable_cuffs() = request.cuffs;
   for (const auto& [size, file] : request.size_meshes) {
     (*upload.mutable_size_meshes())[size] = ToProto(file);
   }
@@ -104,6 +107,9 @@ void AddSourceOptions(CLI::App* command, GarmentFlags& flags) {
                       "\"Size advice\")");
   command->add_option("--sizes", flags.sizes,
                       "Comma-separated sizes; M is the template (default: S,M,L,XL)");
+  command->add_option("--cuffs", flags.cuffs,
+                      "Openings that are elastic cuffs: sleeves, legs, sleeves,legs or none "
+                      "(default none; README \"Elastic cuffs\")");
   command->add_option("--size-mesh", flags.size_meshes,
                       "SIZE=PATH: a retailer's own rest mesh for that size (repeatable)");
 }

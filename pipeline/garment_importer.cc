@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <array>
 
+#include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "absl/strings/str_split.h"
 #include "body/body_skeleton.h"
 #include "clothing/size_advice.h"
 #include "core/content_hash.h"
@@ -107,6 +109,30 @@ std::string SourceSha256(const GarmentImportRequest& request) {
   return hash.HexDigest();
 }
 
+absl::StatusOr<v1::ElasticCuffs> ParseCuffs(absl::string_view list) {
+  v1::ElasticCuffs cuffs;
+  std::vector<std::string> seen;
+  for (absl::string_view word : absl::StrSplit(list, ',', absl::SkipWhitespace())) {
+    word = absl::StripAsciiWhitespace(word);
+    if (std::find(seen.begin(), seen.end(), word) != seen.end()) {
+      return absl::InvalidArgumentError(absl::StrCat("cuffs '", list, "' name ", word, " twice"));
+    }
+    seen.emplace_back(word);
+    if (word == "sleeves") {
+      cuffs.set_sleeves(true);
+    } else if (word == "legs") {
+      cuffs.set_legs(true);
+    } else if (word != "none") {
+      return absl::InvalidArgumentError(
+          absl::StrCat("cuffs '", list, "': '", word, "' is not sleeves, legs or none"));
+    }
+  }
+  if (std::find(seen.begin(), seen.end(), "none") != seen.end() && seen.size() > 1) {
+    return absl::InvalidArgumentError(absl::StrCat("cuffs '", list, "' name none and cuffs"));
+  }
+  return cuffs;
+}
+
 absl::StatusOr<std::string> GarmentImportId(absl::string_view basis_id,
                                             const GarmentImportRequest& request) {
   core::ContentHash id;
@@ -122,6 +148,9 @@ absl::StatusOr<std::string> GarmentImportId(absl::string_view basis_id,
       ASSIGN_OR_RETURN(int step, GradingStep(size));
       id.Add(size).Add(int64_t{step});
     }
+  }
+  if (request.cuffs.sleeves() || request.cuffs.legs()) {
+    id.Add("cuffs").Add(int64_t{request.cuffs.sleeves()}).Add(int64_t{request.cuffs.legs()});
   }
   return id.HexDigest();
 }
@@ -184,6 +213,7 @@ absl::StatusOr<v1::Garment> ImportGarment(const body::BodyModel& model,
   ASSIGN_OR_RETURN(std::string id, GarmentImportId(basis.id(), request));
   garment.set_id(std::move(id));
   garment.set_garment_type(request.garment_type);
+  if (request.cuffs.sleeves() || request.cuffs.legs()) *garment.mutable_cuffs() = request.cuffs;
   for (const std::string& size : request.sizes) {
     v1::GarmentSize* s = garment.add_sizes();
     s->set_name(size);

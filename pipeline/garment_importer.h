@@ -36,7 +36,13 @@ struct GarmentImportRequest {
   // Retailer-supplied rest meshes by size name (same topology as the garment), meters; every
   // one for a size in `sizes`.
   std::map<std::string, SourceFile> size_meshes;
+  // Which openings are elastic cuffs (none by default). Part of the id when any is declared.
+  v1::ElasticCuffs cuffs;
 };
+
+// The cuffs a comma-separated list names: "sleeves", "legs", both, or "none" (or nothing).
+// INVALID_ARGUMENT naming any other word or a repeated one.
+absl::StatusOr<v1::ElasticCuffs> ParseCuffs(absl::string_view list);
 
 // Where a garment's files are on disk, as `fitbase garment import` names them.
 struct GarmentImportPaths {
@@ -62,7 +68,8 @@ absl::StatusOr<core::Mesh> MeanFullAvatar(const body::BodyModel& model,
 std::string SourceSha256(const GarmentImportRequest& request);
 
 // The id ImportGarment gives the garment of `request` on the basis `basis_id`, without
-// importing it: the importer's version, the basis, the files' bytes and the sizes. NOT_FOUND
+// importing it: the importer's version, the basis, the files' bytes, the sizes and the
+// declared cuffs (a garment without cuffs keeps the id it had before they existed). NOT_FOUND
 // for an unknown size name without a mesh.
 absl::StatusOr<std::string> GarmentImportId(absl::string_view basis_id,
                                             const GarmentImportRequest& request);

@@ -129,6 +129,34 @@ TEST_F(GarmentImporterTest, ContentsImportAsTheFilesTheyCameFrom) {
   EXPECT_TRUE(from_contents->sizes(1).has_rest());
 }
 
+TEST_F(GarmentImporterTest, DeclaredCuffsAreKeptAndChangeTheId) {
+  const GarmentImportRequest plain = UploadedRequest();
+  GarmentImportRequest cuffed = plain;
+  cuffed.cuffs.set_legs(true);
+  absl::StatusOr<v1::Garment> garment = ImportGarment(*model_, *basis_, cuffed);
+  ASSERT_TRUE(garment.ok()) << garment.status();
+  EXPECT_TRUE(garment->has_cuffs());
+  EXPECT_TRUE(garment->cuffs().legs());
+  EXPECT_FALSE(garment->cuffs().sleeves());
+  EXPECT_EQ(GarmentImportId(basis_->id(), cuffed).value_or(""), garment->id());
+  EXPECT_NE(GarmentImportId(basis_->id(), plain).value_or(""), garment->id());
+  cuffed.cuffs.set_sleeves(true);
+  EXPECT_NE(GarmentImportId(basis_->id(), cuffed).value_or(""), garment->id());
+}
+
+TEST(ParseCuffsTest, NamesSleevesLegsOrNone) {
+  absl::StatusOr<v1::ElasticCuffs> cuffs = ParseCuffs("legs, sleeves");
+  ASSERT_TRUE(cuffs.ok()) << cuffs.status();
+  EXPECT_TRUE(cuffs->legs() && cuffs->sleeves());
+  cuffs = ParseCuffs("");
+  ASSERT_TRUE(cuffs.ok());
+  EXPECT_FALSE(cuffs->legs() || cuffs->sleeves());
+  EXPECT_TRUE(ParseCuffs("none").ok());
+  EXPECT_THAT(ParseCuffs("legs,cuffs"), StatusIs(absl::StatusCode::kInvalidArgument, "'cuffs'"));
+  EXPECT_THAT(ParseCuffs("legs,legs"), StatusIs(absl::StatusCode::kInvalidArgument, "twice"));
+  EXPECT_THAT(ParseCuffs("none,legs"), StatusIs(absl::StatusCode::kInvalidArgument, "none"));
+}
+
 TEST_F(GarmentImporterTest, MalformedObjNamesTheUpload) {
   GarmentImportRequest request = UploadedRequest();
   request.obj = {"retailer upload 12.obj", "v 0 0 0\nv 1 x 0\n"};

@@ -547,6 +547,19 @@ TEST_F(DistributedBuildTest, UploadImportsTheGarmentOnTheServer) {
   EXPECT_EQ(uploaded.garment_id(), garment_.id());  // The CLI's import of the same files.
   EXPECT_TRUE(uploaded.created());
   EXPECT_EQ(*server_->store().ListGarmentIds("rival"), std::vector<std::string>{garment_.id()});
+
+  // Declared cuffs make another garment, which keeps them for its drapes.
+  upload.mutable_cuffs()->set_legs(true);
+  v1::UploadGarmentResponse cuffed;
+  ASSERT_TRUE(clients_->catalog->UploadGarment(Call(TestKeys::kRival).get(), upload, &cuffed).ok());
+  EXPECT_NE(cuffed.garment_id(), garment_.id());
+  EXPECT_TRUE(cuffed.created());
+  absl::StatusOr<std::string> stored = server_->store().GetGarment("rival", cuffed.garment_id());
+  ASSERT_TRUE(stored.ok()) << stored.status();
+  v1::Garment garment;
+  ASSERT_TRUE(garment.ParseFromString(*stored));
+  EXPECT_TRUE(garment.cuffs().legs());
+  EXPECT_FALSE(garment.cuffs().sleeves());
 }
 
 TEST_F(DistributedBuildTest, AdminsCheckpointTheStoreAsAReadOnlyReplica) {

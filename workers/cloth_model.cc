@@ -6,6 +6,7 @@
 #include <map>
 #include <numeric>
 
+#include "Eigen/Eigenvalues"
 #include "Eigen/Geometry"
 #include "absl/strings/str_cat.h"
 #include "body/body_measurements.h"
@@ -168,6 +169,12 @@ bool Supports::IsStrap(int32_t opening) const {
   return std::binary_search(straps.begin(), straps.end(), opening);
 }
 
+const Cuff* Supports::CuffOf(int32_t opening) const {
+  const auto at = std::lower_bound(cuffs.begin(), cuffs.end(), opening,
+                                   [](const Cuff& c, int32_t o) { return c.opening < o; });
+  return at != cuffs.end() && at->opening == opening ? &*at : nullptr;
+}
+
 absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Positions& garment,
                                       const core::Positions& mean_body) {
   using body::BodyLandmarks;
@@ -218,6 +225,55 @@ absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Posit
   }
   std::sort(supports.waistband_edges.begin(), supports.waistband_edges.end());
   return supports;
+}
+
+absl::StatusOr<std::vector<Cuff>> FindCuffs(const ClothModel& model, const core::Positions& garment,
+                                            const std::vector<body::BodyRegion>& regions,
+                                            const core::Positions& mean_body,
+                                            const core::Triangles& body_triangles,
+                                            CuffDeclaration declared) {
+  const Eigen::Index n = model.inverse_masses.size();
+  if (garment.rows() != n || static_cast<Eigen::Index>(regions.size()) != n) {
+    return absl::InvalidArgumentError(absl::StrCat("the garment has ", garment.rows(),
+                                                   " vertices and ", regions.size(),
+                                                   " vertex regions, its cloth model ", n));
+  }
+  std::vector<Cuff> cuffs;
+  if (!declared.sleeves && !declared.legs) return cuffs;
+  for (size_t o = 0; o < model.openings.size(); ++o) {
+    const Opening& opening = model.openings[o];
+    if (opening.highest_of_piece || opening.vertices.size() < 3) continue;
+    int arms = 0, legs = 0;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int32_t v : opening.vertices) {
+      const body::BodyRegion region = regions[v];
+      arms += region == body::BodyRegion::kArms;
+      legs += region == body::BodyRegion::kLegs || region == body::BodyRegion::kFeet;
+      centre += garment.row(v).transpose();
+    }
+    const int half = static_cast<int>(opening.vertices.size()) / 2;
+    if (!(declared.sleeves && arms > half) && !(declared.legs && legs > half)) continue;
+    centre /= static_cast<double>(opening.vertices.size());
+    // The limb is cut across where the opening lies: in its best-fitting plane, whose normal
+    // is the direction its vertices spread least in.
+    Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
+    for (int32_t v : opening.vertices) {
+      const Eigen::Vector3d d = garment.row(v).transpose() - centre;
+      spread += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(spread);
+    const double girth = body::GirthAround(
+        body::SectionMesh(mean_body, body_triangles, centre, axes.eigenvectors().col(0)), centre);
+    if (!std::isfinite(girth) || girth <= 0) continue;
+    double length = 0;
+    for (int32_t e : opening.edges) {
+      const auto [a, b] = model.edges[e];
+      length += (garment.row(a) - garment.row(b)).norm();
+    }
+    if (length <= 0) continue;
+    cuffs.push_back({static_cast<int32_t>(o), kCuffGirthShare * girth / length});
+  }
+  return cuffs;
 }
 
 Eigen::VectorXd TriangleRestAreas(const ClothModel& model, const Eigen::VectorXd& edge_rest) {

@@ -198,6 +198,74 @@ TEST(FindSupportsTest, RejectsABodyOrGarmentOfAnotherVertexCount) {
             absl::StatusCode::kInvalidArgument);
 }
 
+// Three upright limbs, ellipsoids 6 cm in radius and 1 m long round the origin's height: legs
+// at x = +-0.15 and an arm at x = 0.6.
+core::Mesh ThreeLimbs() {
+  core::Mesh limbs;
+  for (double x : {0.15, -0.15, 0.6}) {
+    core::Mesh limb = UvSphere(1.0, 32, 48);
+    limb.positions = limb.positions * Eigen::Vector3d(0.06, 0.5, 0.06).asDiagonal();
+    limb.positions.rowwise() += Eigen::RowVector3d(x, 0, 0);
+    Append(limb, &limbs);
+  }
+  return limbs;
+}
+
+TEST(FindCuffsTest, DeclaredEndsThatRingOneLimbAreCuffsASkirtsHemIsNot) {
+  const core::Mesh limbs = ThreeLimbs();
+  const core::Triangles triangles = core::Triangulate(limbs.faces);
+  // A trouser leg round the left leg, a skirt round both, a sleeve round the arm; each a
+  // piece whose bottom ring is its end and whose top ring its highest opening.
+  core::Mesh garment;
+  std::vector<body::BodyRegion> regions;
+  auto add = [&](core::Mesh part, double x, body::BodyRegion region) {
+    part.positions.rowwise() += Eigen::RowVector3d(x, 0, 0);
+    Append(part, &garment);
+    regions.insert(regions.end(), static_cast<size_t>(part.positions.rows()), region);
+  };
+  add(Tube(0.1, -0.3, 0.2, 4, 24), 0.15, body::BodyRegion::kLegs);
+  add(Tube(0.3, -0.2, 0.1, 4, 32), 0.0, body::BodyRegion::kLegs);
+  add(Tube(0.1, -0.3, 0.2, 4, 24), 0.6, body::BodyRegion::kArms);
+  auto model = BuildClothModel(garment.positions, garment.faces, 0.2);
+  ASSERT_TRUE(model.ok()) << model.status();
+  std::vector<int32_t> ends(3, -1);
+  for (size_t o = 0; o < model->openings.size(); ++o) {
+    const Opening& opening = model->openings[o];
+    if (!opening.highest_of_piece) ends[opening.piece] = static_cast<int32_t>(o);
+  }
+  ASSERT_EQ(std::count(ends.begin(), ends.end(), -1), 0);
+  auto openings = [&](CuffDeclaration declared) {
+    auto cuffs =
+        FindCuffs(*model, garment.positions, regions, limbs.positions, triangles, declared);
+    EXPECT_TRUE(cuffs.ok()) << cuffs.status();
+    std::vector<int32_t> found;
+    for (const Cuff& cuff : cuffs.value_or(std::vector<Cuff>{})) found.push_back(cuff.opening);
+    return found;
+  };
+  EXPECT_TRUE(openings({}).empty());
+  EXPECT_EQ(openings({.sleeves = false, .legs = true}), std::vector<int32_t>{ends[0]});
+  EXPECT_EQ(openings({.sleeves = true, .legs = false}), std::vector<int32_t>{ends[2]});
+  std::vector<int32_t> both = {ends[0], ends[2]};
+  std::sort(both.begin(), both.end());
+  EXPECT_EQ(openings({.sleeves = true, .legs = true}), both);
+
+  // The leg at the trouser's hem (y = -0.3) is 4.8 cm in radius, the hem 10 cm: its elastic
+  // is 0.9 of the leg's girth, 0.43 of the hem's length.
+  auto cuffs = FindCuffs(*model, garment.positions, regions, limbs.positions, triangles,
+                         {.sleeves = false, .legs = true});
+  ASSERT_TRUE(cuffs.ok() && cuffs->size() == 1);
+  const double leg_girth = 2 * M_PI * 0.06 * std::sqrt(1 - 0.6 * 0.6);
+  const double hem_length = 2 * 24 * 0.1 * std::sin(M_PI / 24);
+  EXPECT_NEAR(cuffs->front().girth_grip, kCuffGirthShare * leg_girth / hem_length, 0.01);
+
+  regions.pop_back();
+  EXPECT_EQ(FindCuffs(*model, garment.positions, regions, limbs.positions, triangles,
+                      {.sleeves = true, .legs = true})
+                .status()
+                .code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
 TEST(ClothModelTest, RejectsBadFaces) {
   const core::Mesh tube = Tube(0.2, 0.0, 0.4, 2, 6);
   core::PolygonFaces bad = tube.faces;

@@ -7,6 +7,7 @@
 #include "body/body_measurements.h"
 #include "body/body_model.h"
 #include "core/content_hash.h"
+#include "core/triangle_bvh.h"
 #include "gtest/gtest.h"
 #include "workers/garment_template.h"
 #include "workers/test_shapes.h"
@@ -103,6 +104,47 @@ TEST_F(DrapeTest, TheWaistbandsElasticGripsTheWaist) {
   ASSERT_TRUE(with.ok() && without.ok());
   EXPECT_NEAR(band_radius(*with), 0.12 + ClothSettings{}.collision_offset, 0.002);
   EXPECT_GT(band_radius(*without), 0.14);
+}
+
+TEST_F(DrapeTest, ADeclaredCuffGathersTheHemOntoTheBody) {
+  // The skirt's hem (y = -0.15) hangs 6 mm off the hips. Declared a cuff, its elastic draws it
+  // onto them, into the contact offset and no further.
+  int32_t hem = -1;
+  for (size_t o = 0; o < model_.openings.size(); ++o) {
+    if (!model_.openings[o].highest_of_piece) hem = static_cast<int32_t>(o);
+  }
+  ASSERT_GE(hem, 0);
+  const std::vector<body::BodyRegion> legs(static_cast<size_t>(tube_.positions.rows()),
+                                           body::BodyRegion::kLegs);
+  auto cuffs = FindCuffs(model_, tube_.positions, legs, mean_.positions,
+                         core::Triangulate(mean_.faces), {.sleeves = false, .legs = true});
+  ASSERT_TRUE(cuffs.ok()) << cuffs.status();
+  ASSERT_EQ(cuffs->size(), 1u);
+  EXPECT_EQ(cuffs->front().opening, hem);
+  auto body = core::TriangleBvh::Build(mean_.positions, core::Triangulate(mean_.faces));
+  ASSERT_TRUE(body.ok());
+  auto hem_gap = [&](const DrapeResult& r) {
+    double sum = 0;
+    for (int32_t v : model_.openings[hem].vertices) {
+      sum += body->Closest(r.positions.row(v).transpose(), 0.1).signed_distance;
+    }
+    return sum / static_cast<double>(model_.openings[hem].vertices.size());
+  };
+  DrapeInput cuffed = Input(1.0, 1.0);
+  cuffed.supports.cuffs = *cuffs;
+  auto with = Drape(cuffed);
+  auto without = Drape(Input(1.0, 1.0));
+  ASSERT_TRUE(with.ok() && without.ok());
+  EXPECT_EQ(with->metrics.penetration_below_0mm, 0.0);
+  EXPECT_GT(hem_gap(*with), 0.0);
+  EXPECT_LT(hem_gap(*with), ClothSettings{}.collision_offset);
+  EXPECT_GT(hem_gap(*without), 0.005);
+
+  DrapeInput bad = cuffed;
+  bad.supports.cuffs.front().girth_grip = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(Drape(bad).status().code(), absl::StatusCode::kInvalidArgument);
+  bad.supports.cuffs.front() = {.opening = 99, .girth_grip = 0.9};
+  EXPECT_EQ(Drape(bad).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 // The body below the waist grows 40% longer, and the skirt's stiction pulls it down with the

@@ -1,6 +1,7 @@
 #include "workers/garment_drape.h"
 
 #include <chrono>
+#include <cmath>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
@@ -55,6 +56,12 @@ absl::StatusOr<PreparedGarment> Prepare(const v1::Garment& garment, absl::string
   ASSIGN_OR_RETURN(g.model, BuildClothModel(rest, g.template_mesh.mesh.faces, areal_density));
   ASSIGN_OR_RETURN(g.regions, proto::RegionsFromProto(garment));
   ASSIGN_OR_RETURN(g.supports, FindSupports(g.model, rest, g.mean_body));
+  if (garment.has_cuffs()) {
+    ASSIGN_OR_RETURN(
+        g.supports.cuffs,
+        FindCuffs(g.model, rest, g.regions, g.mean_body, g.body_triangles,
+                  {.sleeves = garment.cuffs().sleeves(), .legs = garment.cuffs().legs()}));
+  }
   if (garment_size->has_rest()) {
     ASSIGN_OR_RETURN(core::Mesh size_mesh, proto::MeshFromProto(garment_size->rest()));
     if (size_mesh.vertex_count() != rest.rows()) {
@@ -101,6 +108,27 @@ v1::DrapeReport ReportOf(const v1::Garment& garment, absl::string_view size,
     region->set_ease_p95_mm(e.p95_mm);
   }
   return r;
+}
+
+// How close the cuffs sit to the skin of `body` (13,380 x 3, m; its triangles): their
+// vertices' mean distance from it.
+absl::Status SetCuffGap(const PreparedGarment& g, const core::Positions& positions,
+                        const core::Positions& body, v1::DrapeReport* report) {
+  if (g.supports.cuffs.empty()) return absl::OkStatus();
+  ASSIGN_OR_RETURN(core::TriangleBvh bvh, core::TriangleBvh::Build(body, g.body_triangles));
+  double sum = 0;
+  int count = 0;
+  for (const Cuff& cuff : g.supports.cuffs) {
+    for (int32_t v : g.model.openings[cuff.opening].vertices) {
+      const core::SurfacePoint hit = bvh.Closest(positions.row(v).transpose(), 1.0);
+      if (!hit.found) continue;
+      sum += std::abs(hit.signed_distance);
+      ++count;
+    }
+  }
+  report->set_cuff_count(static_cast<uint32_t>(g.supports.cuffs.size()));
+  if (count > 0) report->set_cuff_gap_mm(kMmPerMeter * sum / count);
+  return absl::OkStatus();
 }
 
 void SetSupports(const SupportHeights& supports, v1::DrapeReport* report) {
@@ -151,6 +179,7 @@ absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string
   SetSupports(
       MeasureSupports(g.model, g.supports, g.mean_body, fit.positions, target_body),
       &fit.report);
+  RETURN_IF_ERROR(SetCuffGap(g, fit.positions, target_body, &fit.report));
   fit.report.set_converged_max_move_mm(drape.converged_max_move_mm);
   fit.report.set_steps(static_cast<uint32_t>(drape.steps));
   fit.report.set_seconds(drape.seconds);
@@ -187,6 +216,7 @@ absl::StatusOr<GarmentFit> GeometricFit(const v1::Garment& garment, absl::string
   SetSupports(
       MeasureSupports(g.model, g.supports, g.mean_body, fit.positions, target_body),
       &fit.report);
+  RETURN_IF_ERROR(SetCuffGap(g, fit.positions, target_body, &fit.report));
   fit.report.set_seconds(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return fit;

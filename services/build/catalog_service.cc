@@ -51,11 +51,12 @@ absl::StatusOr<v1::UploadGarmentResponse> Upload(storage::AssetStore& store,
   ASSIGN_OR_RETURN(v1::AvatarBasis basis, ReadAvatarBasis(store, request.avatar_basis_id()));
   if (request.obj().content().empty()) return absl::InvalidArgumentError("obj is empty");
   pipeline::GarmentImportRequest import{.obj = ToSourceFile(request.obj()),
-                              .mhclo = std::nullopt,
-                              .name = request.name(),
-                              .sizes = {request.sizes().begin(), request.sizes().end()},
-                              .garment_type = request.garment_type(),
-                              .size_meshes = {}};
+                                        .mhclo = std::nullopt,
+                                        .name = request.name(),
+                                        .sizes = {request.sizes().begin(), request.sizes().end()},
+                                        .garment_type = request.garment_type(),
+                                        .size_meshes = {},
+                                        .cuffs = request.cuffs()};
   if (request.has_mhclo()) import.mhclo = ToSourceFile(request.mhclo());
   for (const auto& [size, file] : request.size_meshes()) {
     import.size_meshes[size] = ToSourceFile(file);
