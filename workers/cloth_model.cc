@@ -169,12 +169,6 @@ bool Supports::IsStrap(int32_t opening) const {
   return std::binary_search(straps.begin(), straps.end(), opening);
 }
 
-const Cuff* Supports::CuffOf(int32_t opening) const {
-  const auto at = std::lower_bound(cuffs.begin(), cuffs.end(), opening,
-                                   [](const Cuff& c, int32_t o) { return c.opening < o; });
-  return at != cuffs.end() && at->opening == opening ? &*at : nullptr;
-}
-
 absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Positions& garment,
                                       const core::Positions& mean_body) {
   using body::BodyLandmarks;
@@ -227,19 +221,26 @@ absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Posit
   return supports;
 }
 
-absl::StatusOr<std::vector<Cuff>> FindCuffs(const ClothModel& model, const core::Positions& garment,
-                                            const std::vector<body::BodyRegion>& regions,
-                                            const core::Positions& mean_body,
-                                            const core::Triangles& body_triangles,
-                                            CuffDeclaration declared) {
+absl::StatusOr<std::vector<int32_t>> FindCuffs(const ClothModel& model,
+                                               const core::Positions& garment,
+                                               const std::vector<body::BodyRegion>& regions,
+                                               const core::Positions& mean_body,
+                                               const core::Triangles& body_triangles,
+                                               CuffDeclaration declared) {
+  if (mean_body.rows() != body::kBodyVertexCount) {
+    return absl::InvalidArgumentError(absl::StrCat("the mean avatar has ", mean_body.rows(),
+                                                   " vertices, not ", body::kBodyVertexCount));
+  }
   const Eigen::Index n = model.inverse_masses.size();
   if (garment.rows() != n || static_cast<Eigen::Index>(regions.size()) != n) {
     return absl::InvalidArgumentError(absl::StrCat("the garment has ", garment.rows(),
                                                    " vertices and ", regions.size(),
                                                    " vertex regions, its cloth model ", n));
   }
-  std::vector<Cuff> cuffs;
+  std::vector<int32_t> cuffs;
   if (!declared.sleeves && !declared.legs) return cuffs;
+  // A T-shirt's hem over the hips covers mostly the thighs' region, and rings the hips.
+  const double crotch = mean_body(body::BodyLandmarks::kCrotch, 1);
   for (size_t o = 0; o < model.openings.size(); ++o) {
     const Opening& opening = model.openings[o];
     if (opening.highest_of_piece || opening.vertices.size() < 3) continue;
@@ -252,8 +253,10 @@ absl::StatusOr<std::vector<Cuff>> FindCuffs(const ClothModel& model, const core:
       centre += garment.row(v).transpose();
     }
     const int half = static_cast<int>(opening.vertices.size()) / 2;
-    if (!(declared.sleeves && arms > half) && !(declared.legs && legs > half)) continue;
     centre /= static_cast<double>(opening.vertices.size());
+    const bool sleeve = declared.sleeves && arms > half;
+    const bool leg = declared.legs && legs > half && centre.y() < crotch;
+    if (!sleeve && !leg) continue;
     // The limb is cut across where the opening lies: in its best-fitting plane, whose normal
     // is the direction its vertices spread least in.
     Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
@@ -262,16 +265,9 @@ absl::StatusOr<std::vector<Cuff>> FindCuffs(const ClothModel& model, const core:
       spread += d * d.transpose();
     }
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(spread);
-    const double girth = body::GirthAround(
+    const double limb_girth = body::GirthAround(
         body::SectionMesh(mean_body, body_triangles, centre, axes.eigenvectors().col(0)), centre);
-    if (!std::isfinite(girth) || girth <= 0) continue;
-    double length = 0;
-    for (int32_t e : opening.edges) {
-      const auto [a, b] = model.edges[e];
-      length += (garment.row(a) - garment.row(b)).norm();
-    }
-    if (length <= 0) continue;
-    cuffs.push_back({static_cast<int32_t>(o), kCuffGirthShare * girth / length});
+    if (std::isfinite(limb_girth)) cuffs.push_back(static_cast<int32_t>(o));
   }
   return cuffs;
 }

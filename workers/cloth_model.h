@@ -45,16 +45,6 @@ absl::StatusOr<ClothModel> BuildClothModel(const core::Positions& positions,
                                            const core::PolygonFaces& faces,
                                            double areal_density);
 
-// An elastic cuff (FindCuffs): an opening whose boundary edges carry an elastic, as a
-// waistband's do, of rest length the smaller of ClothSettings::waistband_grip and
-// `girth_grip` times their size's.
-struct Cuff {
-  int32_t opening = 0;  // Index into ClothModel::openings.
-  // kCuffGirthShare of the limb's girth under the opening over the opening's length, on the
-  // template (> 0).
-  double girth_grip = 0;
-};
-
 // The openings that hold a garment up on the body, and its declared cuffs.
 struct Supports {
   // Ascending indices into ClothModel::edges: the boundary edges of waistbands, which grip
@@ -66,9 +56,13 @@ struct Supports {
   // shoulders but reach below the underbust (a bib overall's straps, bib and back), held at
   // their height as collars are. Not a collar: the neck's figures would average in the bib.
   std::vector<int32_t> straps;
-  // Ascending by opening: elastic cuffs round the wrists or ankles, held where they sit on the
-  // limb at ClothSettings::anchor_stiffness. Only a garment declared with them has any.
-  std::vector<Cuff> cuffs;
+  // Ascending indices into ClothModel::openings: elastic cuffs round the wrists or ankles
+  // (FindCuffs), whose boundary edges carry a waistband's elastic. Only a garment declared with
+  // them has any. Not anchored: held where they sit on the limb, as every vertex is, by the tie
+  // to the skin point they started over. Anchored as a collar is (ClothSettings::
+  // anchor_stiffness), the cuffs of a size too short for a tall body pulled its waistband 2.7
+  // cm down the rise (2.0 allowed), on seven of the 12 garments; held by the ties alone, 1.8.
+  std::vector<int32_t> cuffs;
 
   // Whether `opening` (of the garment these are the supports of) is a waistband.
   bool IsWaistband(const Opening& opening) const;
@@ -76,8 +70,6 @@ struct Supports {
   bool IsCollar(int32_t opening) const;
   // Whether the garment's opening with this index is a strap.
   bool IsStrap(int32_t opening) const;
-  // The cuff of the garment's opening with this index, or null.
-  const Cuff* CuffOf(int32_t opening) const;
 };
 
 // The supports of a garment whose template `garment` (V x 3, m) sits on `mean_body` (the
@@ -99,25 +91,21 @@ struct CuffDeclaration {
   bool legs = false;
 };
 
-// Below the limb's girth, so a cuff grips a slim and a thick wrist or ankle; not far below, or the
-// fabric gathered on it folds one way or another between nearby bodies, as a waistband's did
-// on an elastic half its length.
-inline constexpr double kCuffGirthShare = 0.9;
-
 // The cuffs `declared` of a garment whose template `garment` (V x 3, m; regions: the body
 // region each vertex covers) sits on `mean_body` (the 13,380 x 3 body avatar it was fitted
 // to, m; its triangles). A cuff is an opening that is not its piece's highest, most of whose
-// vertices cover the arms (a sleeve's end) or the legs and feet (a leg's end), and that rings
-// one limb: the body's section in the opening's plane has a loop round the mean of its
-// vertices (a skirt's hem, round both legs, has it between them). That loop's girth (a tape's,
-// body::GirthAround) sets the elastic's, so that a loose trouser leg gathers onto the ankle as a
-// jogger's cuff does. Ascending by opening; none when nothing is declared. INVALID_ARGUMENT for
-// regions or a garment of another vertex count than the model's.
-absl::StatusOr<std::vector<Cuff>> FindCuffs(const ClothModel& model, const core::Positions& garment,
-                                            const std::vector<body::BodyRegion>& regions,
-                                            const core::Positions& mean_body,
-                                            const core::Triangles& body_triangles,
-                                            CuffDeclaration declared);
+// vertices cover the arms (a sleeve's end) or the legs and feet with the mean of its vertices
+// below the crotch (a leg's end), and that rings one limb: the body's section in the
+// opening's plane has a loop round that mean (a skirt's hem, round both legs, has it between
+// them). Ascending indices into model.openings; none when nothing is declared.
+// INVALID_ARGUMENT for a body of another vertex count, or regions or a garment of another
+// vertex count than the model's.
+absl::StatusOr<std::vector<int32_t>> FindCuffs(const ClothModel& model,
+                                               const core::Positions& garment,
+                                               const std::vector<body::BodyRegion>& regions,
+                                               const core::Positions& mean_body,
+                                               const core::Triangles& body_triangles,
+                                               CuffDeclaration declared);
 
 // Current bending angles of `hinges` for `positions` (rad; 0 for a degenerate hinge).
 Eigen::VectorXd HingeAngles(const core::Positions& positions,

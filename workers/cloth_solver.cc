@@ -272,30 +272,22 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
     ties_.push_back({static_cast<int32_t>(v), {hit.triangle, hit.barycentric},
                      start.row(v).transpose() - hit.point});
   }
-  elastic_grip_.assign(model.edges.size(), 0.0);
-  elastic_stiffness_.assign(model.edges.size(), 0.0);
+  elastic_edge_.assign(model.edges.size(), false);
   if (settings.waistband_stiffness > 0) {
-    for (int32_t e : supports.waistband_edges) {
-      elastic_grip_[e] = settings.waistband_grip;
-      elastic_stiffness_[e] = settings.waistband_stiffness;
-    }
-    for (const Cuff& cuff : supports.cuffs) {
-      for (int32_t e : model.openings[cuff.opening].edges) {
-        elastic_grip_[e] = std::min(settings.waistband_grip, cuff.girth_grip);
-        elastic_stiffness_[e] = kCuffStiffnessFactor * settings.waistband_stiffness;
-      }
+    for (int32_t e : supports.waistband_edges) elastic_edge_[e] = true;
+    for (int32_t cuff : supports.cuffs) {
+      for (int32_t e : model.openings[cuff].edges) elastic_edge_[e] = true;
     }
   }
   const double rise = RiseOf(body.positions());
   for (size_t o = 0; o < model.openings.size(); ++o) {
     const Opening& opening = model.openings[o];
-    const int32_t index = static_cast<int32_t>(o);
-    const bool cuff = supports.CuffOf(index) != nullptr;
-    if (!opening.highest_of_piece && !cuff) continue;
+    if (!opening.highest_of_piece) continue;
     // Openings that ring nothing (an open front, a button) are held as every top opening was
     // before the supports.
     double stiffness = kUnsupportedAnchorStiffness;
-    if (cuff || supports.IsCollar(index) || supports.IsStrap(index)) {
+    const int32_t index = static_cast<int32_t>(o);
+    if (supports.IsCollar(index) || supports.IsStrap(index)) {
       stiffness = settings.anchor_stiffness;
     } else if (supports.IsWaistband(opening)) {
       stiffness = settings.waistband_anchor_stiffness;
@@ -526,16 +518,15 @@ void ClothSolver::AddSprings(const core::Positions& x, bool derivatives,
     const Eigen::Vector3d d = (x.row(i) - x.row(j)).transpose();
     const double length = d.norm();
     const double r = edge_rest_(static_cast<Eigen::Index>(e));
-    const double grip = elastic_grip_[e];
-    if (grip == 0) {
+    if (!elastic_edge_[e]) {
       add(e, i, j, d, length, r,
           length < r ? settings_.compression_stiffness : settings_.stretch_stiffness);
       continue;
     }
     // The band's fabric gathers on its elastic, which only pulls.
     if (length > r) add(e, i, j, d, length, r, settings_.stretch_stiffness);
-    const double elastic_rest = grip * r;
-    if (length > elastic_rest) add(e, i, j, d, length, elastic_rest, elastic_stiffness_[e]);
+    const double elastic_rest = settings_.waistband_grip * r;
+    if (length > elastic_rest) add(e, i, j, d, length, elastic_rest, settings_.waistband_stiffness);
   }
 }
 

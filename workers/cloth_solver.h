@@ -162,13 +162,6 @@ struct ClothSettings {
 // import fits the garment to the mean avatar with this solver (FitTemplateToBody).
 inline constexpr char kSimulatorVersion[] = "fitbase-newton-13";
 
-// A cuff's elastic (FindCuffs) is this many times as stiff as a waistband's. It gathers a loose
-// trouser leg by up to 40% onto the ankle, against the compression stiffness of the cloth
-// above it, where a band gathers at most 18%: as stiff as a band's, male_casualsuit01's cuffs
-// stayed 8.1 mm off the skin of a held-out man, at ten times 2.9 mm (the contact offset is
-// 2.5).
-inline constexpr double kCuffStiffnessFactor = 10;
-
 // N/m holding collars and waistbands at their height without the supports.
 inline constexpr double kUnsupportedAnchorStiffness = 20;
 
@@ -200,10 +193,10 @@ class ClothSolver {
   // `start` (V x 3, m) on the body `body`; rest lengths per model.edges (m) and rest angles
   // per model.hinges (rad); `supports`: its waistbands, whose edges carry the elastic
   // (ClothSettings::waistband_grip), collars (FindSupports) and cuffs (FindCuffs), whose edges
-  // carry it too. The top openings (each piece's highest, model.openings) and the cuffs are
-  // anchored to the body surface nearest them on `body`: waistbands at
+  // carry the same elastic. The top openings (each piece's highest, model.openings) are anchored
+  // to the body surface nearest them on `body`: waistbands at
   // ClothSettings::waistband_anchor_stiffness (on an avatar, shifted with its rise:
-  // waistband_on_rise), collars, straps and cuffs at anchor_stiffness, the others at
+  // waistband_on_rise), collars and straps at anchor_stiffness, the others at
   // kUnsupportedAnchorStiffness.
   ClothSolver(const ClothModel& model, const core::Positions& start, Eigen::VectorXd edge_rest,
               Eigen::VectorXd hinge_rest, const Supports& supports, const core::TriangleBvh& body,
@@ -329,10 +322,7 @@ class ClothSolver {
   // Per ties_, with ClothSettings::friction: the normal force of the body's contact on the
   // vertex at the end of the last step (or at the start), N.
   std::vector<double> tie_normal_forces_;
-  // Per model edge: its elastic's rest length over its own (waistbands' and cuffs'), 0 for
-  // none, and its stiffness, N/m.
-  std::vector<double> elastic_grip_;
-  std::vector<double> elastic_stiffness_;
+  std::vector<bool> elastic_edge_;  // Per model edge: a waistband's or a cuff's.
   std::vector<Poke> pokes_;
   std::optional<core::TriangleBvh> garment_bvh_;
   // Contact lookups took a quarter of a drape's time before these. Per vertex, on the body of

@@ -1,7 +1,6 @@
 #include "workers/drape.h"
 
 #include <chrono>
-#include <cmath>
 
 #include "absl/strings/str_cat.h"
 #include "core/status_macros.h"
@@ -63,16 +62,7 @@ absl::Status ValidateInput(const DrapeInput& in) {
     return absl::InvalidArgumentError(
         "straps must be ascending indices of the garment's openings");
   }
-  std::vector<int32_t> cuffs;
-  for (const Cuff& cuff : in.supports.cuffs) {
-    if (!std::isfinite(cuff.girth_grip) || cuff.girth_grip <= 0) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("cuff of opening ", cuff.opening, " grips at ", cuff.girth_grip,
-                       " of its length; a cuff's grip is a positive share"));
-    }
-    cuffs.push_back(cuff.opening);
-  }
-  if (!ascending_below(cuffs, in.model->openings.size())) {
+  if (!ascending_below(in.supports.cuffs, in.model->openings.size())) {
     return absl::InvalidArgumentError("cuffs must be ascending indices of the garment's openings");
   }
   if (!in.regions.empty() && static_cast<Eigen::Index>(in.regions.size()) != n) {

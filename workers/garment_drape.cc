@@ -118,8 +118,8 @@ absl::Status SetCuffGap(const PreparedGarment& g, const core::Positions& positio
   ASSIGN_OR_RETURN(core::TriangleBvh bvh, core::TriangleBvh::Build(body, g.body_triangles));
   double sum = 0;
   int count = 0;
-  for (const Cuff& cuff : g.supports.cuffs) {
-    for (int32_t v : g.model.openings[cuff.opening].vertices) {
+  for (int32_t cuff : g.supports.cuffs) {
+    for (int32_t v : g.model.openings[cuff].vertices) {
       const core::SurfacePoint hit = bvh.Closest(positions.row(v).transpose(), 1.0);
       if (!hit.found) continue;
       sum += std::abs(hit.signed_distance);
