@@ -265,6 +265,7 @@ absl::StatusOr<std::vector<int32_t>> FindCuffs(const ClothModel& model,
       spread += d * d.transpose();
     }
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(spread);
+    // NaN when no loop of the section goes round the centre: the opening rings no one limb.
     const double limb_girth = body::GirthAround(
         body::SectionMesh(mean_body, body_triangles, centre, axes.eigenvectors().col(0)), centre);
     if (std::isfinite(limb_girth)) cuffs.push_back(static_cast<int32_t>(o));
