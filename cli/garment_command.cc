@@ -80,7 +80,7 @@ absl::Status RunUpload(const GarmentFlags& flags) {
   if (request.mhclo.has_value()) *upload.mutable_mhclo() = ToProto(*request.mhclo);
   for (const std::string& size : request.sizes) upload.add_sizes(size);
   upload.set_garment_type(request.garment_type);
-  if (request.cuffs.sleeves() || request.cuffs.legs()) *upload.mutable_cuffs() = request.cuffs;
+  if (pipeline::DeclaresCuffs(request.cuffs)) *upload.mutable_cuffs() = request.cuffs;
   for (const auto& [size, file] : request.size_meshes) {
     (*upload.mutable_size_meshes())[size] = ToProto(file);
   }

@@ -133,6 +133,8 @@ absl::StatusOr<v1::ElasticCuffs> ParseCuffs(absl::string_view list) {
   return cuffs;
 }
 
+bool DeclaresCuffs(const v1::ElasticCuffs& cuffs) { return cuffs.sleeves() || cuffs.legs(); }
+
 absl::StatusOr<std::string> GarmentImportId(absl::string_view basis_id,
                                             const GarmentImportRequest& request) {
   core::ContentHash id;
@@ -149,7 +151,7 @@ absl::StatusOr<std::string> GarmentImportId(absl::string_view basis_id,
       id.Add(size).Add(int64_t{step});
     }
   }
-  if (request.cuffs.sleeves() || request.cuffs.legs()) {
+  if (DeclaresCuffs(request.cuffs)) {
     id.Add("cuffs").Add(int64_t{request.cuffs.sleeves()}).Add(int64_t{request.cuffs.legs()});
   }
   return id.HexDigest();
@@ -213,7 +215,7 @@ absl::StatusOr<v1::Garment> ImportGarment(const body::BodyModel& model,
   ASSIGN_OR_RETURN(std::string id, GarmentImportId(basis.id(), request));
   garment.set_id(std::move(id));
   garment.set_garment_type(request.garment_type);
-  if (request.cuffs.sleeves() || request.cuffs.legs()) *garment.mutable_cuffs() = request.cuffs;
+  if (DeclaresCuffs(request.cuffs)) *garment.mutable_cuffs() = request.cuffs;
   for (const std::string& size : request.sizes) {
     v1::GarmentSize* s = garment.add_sizes();
     s->set_name(size);

@@ -44,6 +44,9 @@ struct GarmentImportRequest {
 // INVALID_ARGUMENT naming any other word or a repeated one.
 absl::StatusOr<v1::ElasticCuffs> ParseCuffs(absl::string_view list);
 
+// Whether `cuffs` declares any: only then is it stored and part of the garment's id.
+bool DeclaresCuffs(const v1::ElasticCuffs& cuffs);
+
 // Where a garment's files are on disk, as `fitbase garment import` names them.
 struct GarmentImportPaths {
   // Exactly one of: a MakeHuman .mhclo (its OBJ is the file its obj_file line names, beside

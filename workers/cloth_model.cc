@@ -13,6 +13,7 @@
 #include "body/body_model.h"
 #include "core/dihedral_angle.h"
 #include "core/mesh.h"
+#include "core/status_macros.h"
 
 namespace fitbase::workers {
 namespace {
@@ -25,6 +26,15 @@ Pair Sorted(int32_t a, int32_t b) { return a < b ? Pair{a, b} : Pair{b, a}; }
 int32_t Root(std::vector<int32_t>& parent, int32_t v) {
   while (parent[v] != v) v = parent[v] = parent[parent[v]];
   return v;
+}
+
+// FindSupports and FindCuffs read the hm08 body's landmarks.
+absl::Status CheckMeanBody(const core::Positions& mean_body) {
+  if (mean_body.rows() != body::kBodyVertexCount) {
+    return absl::InvalidArgumentError(absl::StrCat("the mean avatar has ", mean_body.rows(),
+                                                   " vertices, not ", body::kBodyVertexCount));
+  }
+  return absl::OkStatus();
 }
 
 // Groups boundary edges into loops (components of the boundary-edge graph), each with its
@@ -172,10 +182,7 @@ bool Supports::IsStrap(int32_t opening) const {
 absl::StatusOr<Supports> FindSupports(const ClothModel& model, const core::Positions& garment,
                                       const core::Positions& mean_body) {
   using body::BodyLandmarks;
-  if (mean_body.rows() != body::kBodyVertexCount) {
-    return absl::InvalidArgumentError(absl::StrCat("the mean avatar has ", mean_body.rows(),
-                                                   " vertices, not ", body::kBodyVertexCount));
-  }
+  RETURN_IF_ERROR(CheckMeanBody(mean_body));
   if (garment.rows() != model.inverse_masses.size()) {
     return absl::InvalidArgumentError(absl::StrCat("the garment has ", garment.rows(),
                                                    " vertices, its cloth model ",
@@ -227,10 +234,7 @@ absl::StatusOr<std::vector<int32_t>> FindCuffs(const ClothModel& model,
                                                const core::Positions& mean_body,
                                                const core::Triangles& body_triangles,
                                                CuffDeclaration declared) {
-  if (mean_body.rows() != body::kBodyVertexCount) {
-    return absl::InvalidArgumentError(absl::StrCat("the mean avatar has ", mean_body.rows(),
-                                                   " vertices, not ", body::kBodyVertexCount));
-  }
+  RETURN_IF_ERROR(CheckMeanBody(mean_body));
   const Eigen::Index n = model.inverse_masses.size();
   if (garment.rows() != n || static_cast<Eigen::Index>(regions.size()) != n) {
     return absl::InvalidArgumentError(absl::StrCat("the garment has ", garment.rows(),
