@@ -20,9 +20,11 @@
 //     (FitToBody) instead of the body of the weights; counter `moved` is the share of vertices
 //     the clean-up moved (random geometry moves every vertex, the most work a fit can take);
 //   - BM_ProjectAvatar/N: a 13,380-vertex avatar projected onto N components;
-//   - BM_BuildKernelModel/N/S/T: not the fit but the offline build of its model
+//   - BM_BuildKernelModel/N/S/T/B: not the fit but the offline build of its model
 //     (BuildKernelClothingModel) from N components' axis examples and S sampled bodies, the
-//     kernel shapes searched on T threads: /T=1 over /T=2 is what the second thread buys;
+//     kernel shapes searched on T threads and on the first B bodies (0: all), then fitted to
+//     all: /T=1 over /T=2 is what the second thread buys, /B=0 over /B=300 what searching on
+//     300 of the 641 bodies saves (counter `loo_mm`: the leave-one-out error on all of them);
 //   - BM_FitStoredBasis/0..4 (--clothing=PATH.fbc): a real garment size, the model alone, with
 //     the clean-up, the clean-up without guards, without smoothing, and fitted to a mesh;
 //     BM_FitStoredBasis/5 (with --avatar=PATH.obj --weights=PATH.json, the avatar's projection
@@ -227,9 +229,12 @@ void BM_BuildKernelModel(benchmark::State& state) {
   samples.drapes = SyntheticDrapes(sigmas, samples.weights, kVertices);
   const Eigen::MatrixXd axis_drapes = SyntheticDrapes(sigmas, axis, kVertices);
   clothing::KernelBuildReport report;
+  const int search = state.range(3) > 0 ? static_cast<int>(state.range(3))
+                                        : design.example_count() + sampled;
   for (auto _ : state) {
     absl::StatusOr<clothing::ClothingModel> model = clothing::BuildKernelClothingModel(
-        design, axis_drapes, samples, {.threads = static_cast<int>(state.range(2))}, &report);
+        design, axis_drapes, samples,
+        {.threads = static_cast<int>(state.range(2)), .search_bodies = search}, &report);
     if (!model.ok()) {
       state.SkipWithError(std::string(model.status().message()).c_str());
       return;
@@ -237,6 +242,7 @@ void BM_BuildKernelModel(benchmark::State& state) {
     benchmark::DoNotOptimize(model->basis.data());
   }
   state.SetLabel(report.input_scaling + " " + report.shape);
+  state.counters["loo_mm"] = report.loo_rms_mm;
 }
 
 // The kernel model at its largest default: N linear terms, M = 2N + 1 + 400 training bodies
@@ -511,8 +517,10 @@ BENCHMARK(BM_FitCleanup)
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ProjectAvatar)->Arg(10)->Arg(30)->Arg(60)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BuildKernelModel)
-    ->Args({20, 300, 1})
-    ->Args({20, 300, 2})
+    ->Args({20, 300, 1, 0})
+    ->Args({20, 300, 2, 0})
+    ->Args({20, 600, 2, 0})
+    ->Args({20, 600, 2, 300})
     ->Iterations(1)
     ->UseRealTime()
     ->Unit(benchmark::kSecond);

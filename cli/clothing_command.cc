@@ -83,6 +83,12 @@ absl::Status RunClothingBuild(const ClothingFlags& flags) {
         core::KernelShapeName(static_cast<core::KernelShape>(k.shape())), k.input_scaling(),
         k.ridge(), k.linear_part().empty() ? "axis" : k.linear_part(), k.linear_rms_mm(),
         k.loo_rms_mm());
+    if (k.searched_bodies() > 0) {
+      std::cout << absl::StrFormat(
+          "kernel chosen on the first %d of the %d bodies (shape, scaling and reaches), then "
+          "fitted to all\n",
+          k.searched_bodies(), k.center_count());
+    }
   }
   std::cout << "wrote " << flags.out << "\n";
   return absl::OkStatus();

@@ -205,6 +205,10 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
     return absl::InvalidArgumentError(
         absl::StrCat("kernel shapes need at least one thread; got ", options.threads));
   }
+  if (options.search_bodies < 2) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "the kernel's search needs at least 2 training bodies; got ", options.search_bodies));
+  }
   ASSIGN_OR_RETURN(ClothingModel model,
                    BuildClothingModel(ClothingMethod::kLinear, design, drapes));
   model.method = ClothingMethod::kKernel;
@@ -266,15 +270,18 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
   chosen.kept_energy = total > 0 ? kept / total : 1.0;
   chosen.linear_rms_mm = 1000 * linear_rms;
   chosen.loo_rms_mm = chosen.linear_rms_mm;
+  chosen.searched_bodies = m;
   if (outputs > 0) {
     // The kernel's shape is chosen like its reaches, by the leave-one-out error, and only where
     // the reaches are (KernelBuildOptions::shapes says why).
     const bool relevance = m >= kRelevanceBodiesPerComponent * n;
     const size_t searched = relevance ? options.shapes.size() : 1;
     const Eigen::MatrixXd weights = features.bottomRows(n);
+    const Eigen::Index search = std::min<Eigen::Index>(m, options.search_bodies);
     std::vector<std::optional<ChosenKernel>> fitted(searched);
     core::ParallelFor(searched, options.threads, [&](size_t i) {
-      fitted[i] = ChooseKernel(options.shapes[i], weights, targets, sigma_scale, response_scale);
+      fitted[i] = ChooseKernel(options.shapes[i], weights.leftCols(search), targets.topRows(search),
+                               sigma_scale, response_scale);
     });
     // In the shapes' order, whichever thread searched them: the same choice for any count.
     std::optional<ChosenKernel> best;
@@ -283,6 +290,16 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
     }
     if (!best) {
       return absl::InvalidArgumentError("the sampled bodies do not differ in their weights");
+    }
+    if (search < m) {
+      chosen.searched_bodies = search;
+      // The reaches found on the first bodies, z = scale .* w / l, and the ridge and
+      // coefficients from all of them.
+      ASSIGN_OR_RETURN(core::RelevanceFit all,
+                       core::FitKernelRidgeRelevance(
+                           weights, targets, best->scale.matrix() / best->ridge.length_scale,
+                           {.shape = best->ridge.shape, .sweeps = 0}));
+      best = ChosenKernel{std::move(all.model), all.scales.array(), best->scaling};
     }
     chosen.input_scaling = best->scaling;
     chosen.shape = core::KernelShapeName(best->ridge.shape);

@@ -295,6 +295,41 @@ TEST(KernelClothingModelTest, SearchesTheShapesSideBySideToTheSameBytes) {
               StatusIs(absl::StatusCode::kInvalidArgument, "at least one thread"));
 }
 
+// A search on the first bodies (9 axis examples and 111 of 240 samples) finds the reaches
+// the whole set's search finds, to a factor of the search's step, and the model fitted with
+// them to all 249 bodies is as close on new bodies; a limit at or above the count changes no
+// byte.
+TEST(KernelClothingModelTest, SearchesOnTheFirstBodiesAndFitsAllOfThem) {
+  const ExampleDesign design = Design();
+  KernelBuildReport all_report, first_report, limit_report;
+  const ClothingModel all = KernelModel(design, &all_report, 240);
+  const ClothingModel first = KernelModel(design, &first_report, 240, {.search_bodies = 120});
+  EXPECT_EQ(all_report.searched_bodies, 249);
+  EXPECT_EQ(first_report.searched_bodies, 120);
+  EXPECT_EQ(first_report.input_scaling, "relevance");
+  EXPECT_EQ(first.kernel.center_count(), 249);
+  EXPECT_TRUE(ValidateClothingModel(first).ok());
+  const Eigen::ArrayXf ratio = first.kernel.input_scale.array() / all.kernel.input_scale.array();
+  EXPECT_LE(ratio.head<2>().maxCoeff(), 2.01f) << ratio.transpose();
+  EXPECT_GE(ratio.head<2>().minCoeff(), 0.49f) << ratio.transpose();
+  const Eigen::MatrixXd held_out = SampleWeights(design, 40, 2);
+  const double all_error = RmsError(all, design, held_out);
+  EXPECT_LT(RmsError(first, design, held_out), 1.25 * all_error) << all_error;
+  // Fitted to all 249 bodies, not to the 120 searched: closer than the model of those alone.
+  EXPECT_LT(RmsError(first, design, held_out),
+            RmsError(KernelModel(design, nullptr, 111), design, held_out));
+
+  const ClothingModel limit = KernelModel(design, &limit_report, 240, {.search_bodies = 249});
+  EXPECT_EQ(limit.basis, all.basis);
+  EXPECT_EQ(limit.kernel.coefficients, all.kernel.coefficients);
+  EXPECT_EQ(limit_report.loo_rms_mm, all_report.loo_rms_mm);
+  EXPECT_THAT(BuildKernelClothingModel(
+                  design, ExampleDrapes(design),
+                  {SampleWeights(design, 3, 1), Eigen::MatrixXd::Zero(3 * kVertices, 3)},
+                  {.search_bodies = 1}, nullptr),
+              StatusIs(absl::StatusCode::kInvalidArgument, "at least 2 training bodies"));
+}
+
 // The axis examples and the samples of KernelModel, and the least-squares linear model over
 // them: (1 + N) x D, the mean first.
 Eigen::MatrixXd LeastSquaresLinearPart(const ExampleDesign& design, int sample_count) {

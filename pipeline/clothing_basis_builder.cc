@@ -17,7 +17,8 @@ namespace {
 // from the same drapes is other bytes, so it must have another id. Version 2: the kernel
 // method and the clean-up's triangle guards. Version 3: the body under the garment
 // (BodyCorrespondence::body_triangles), which the clean-up's deep pushes ask. Version 4: the
-// kernel's linear part fitted by least squares with enough training bodies.
+// kernel's linear part fitted by least squares with enough training bodies. (A kernel searched
+// on fewer than all its bodies adds that count instead of a version.)
 constexpr absl::string_view kAssemblyVersion = "clothing-basis-4";
 
 }  // namespace
@@ -164,6 +165,12 @@ absl::StatusOr<v1::ClothingBasis> AssembleClothingBasis(
     k->set_ridge(kernel_report.ridge);
     k->set_linear_rms_mm(kernel_report.linear_rms_mm);
     k->set_loo_rms_mm(kernel_report.loo_rms_mm);
+    // Only a search on fewer than all the bodies makes other bytes than before it, so only
+    // that changes the id: bases of up to KernelBuildOptions::search_bodies keep theirs.
+    if (kernel_report.searched_bodies < used) {
+      k->set_searched_bodies(static_cast<uint32_t>(kernel_report.searched_bodies));
+      id.Add(absl::string_view("searched-bodies")).Add(kernel_report.searched_bodies);
+    }
   }
   message.set_id(id.HexDigest());
   v1::Mesh* faces = message.mutable_faces();
