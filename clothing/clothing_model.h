@@ -113,7 +113,7 @@ struct KernelBuildOptions {
   // the axis examples, then the sampled bodies in their order), and the kernel chosen there is
   // fitted to all of them, its ridge chosen by their leave-one-out error. A search step is an
   // eigendecomposition of the M x M kernel, 9 M^3 flops, and a search takes a few hundred, so
-  // its time grows as M^3: at 3,200 sampled drapes (M = 3,261) a full search would take hours.
+  // its time grows as M^3: at 3,200 sampled drapes (M = 3,261) a full search takes over an hour.
   // The sampled bodies are drawn independently from one distribution, so the first ones stand
   // for all of them, but not quite: male_worksuit01 M at 1,600 sampled drapes (M = 1,661), 30
   // held-out men, searched on the first 1,000 missed the drape by 3.25 mm against 3.11 searched
