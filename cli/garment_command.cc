@@ -109,7 +109,7 @@ void AddSourceOptions(CLI::App* command, GarmentFlags& flags) {
                       "Comma-separated sizes; M is the template (default: S,M,L,XL)");
   command->add_option("--cuffs", flags.cuffs,
                       "Openings that are elastic cuffs: sleeves, legs, sleeves,legs or none "
-                      "(default none; README \"Elastic cuffs\")");
+                      "(default none; docs/drape.md, \"Elastic cuffs\")");
   command->add_option("--size-mesh", flags.size_meshes,
                       "SIZE=PATH: a retailer's own rest mesh for that size (repeatable)");
 }

@@ -29,7 +29,7 @@ struct FitScratch {
 // male_casualsuit01 M (8.4k vertices) the basis takes 3.2 MB instead of 6.4, the fitter 6.2
 // instead of 9.4 (the correspondence stays in floats), and the product 60 us instead of 80.
 // Each entry is within 1/65534 of its column's largest magnitude, micrometres of the fitted
-// garment (README, "Sixteen bits per entry").
+// garment (docs/fit-accuracy.md, "Sixteen bits per entry").
 class ClothingFitter {
  public:
   // The model and correspondence must agree in vertex and component counts.

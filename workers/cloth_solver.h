@@ -104,7 +104,7 @@ struct ClothSettings {
   // memory, and a step stopped short leaves it in a place that depends on the step count
   // (female_casualsuit01 at mu 0.4 with 4 iterations a path step: second difference p99
   // 22.6 mm at 0.1 sigma, doubling the schedule moved it 3.3 mm; solved, 4.2 mm and 0.17 mm).
-  // Off by default (README, "Coulomb friction"): at mu 0.8, the best of 0.2, 0.4 and 0.8 on
+  // Off by default (docs/drape.md, "Coulomb friction"): at mu 0.8, the best of 0.2, 0.4 and 0.8 on
   // female_casualsuit01, six of the 12 garments jump between nearby bodies at the average body
   // (p99 2.3 to 43.7 mm at 0.1 sigma, against one with the ties); over the population's 2%
   // tails the hems ride up less, and male_worksuit01, too short for the tallest body, slides
