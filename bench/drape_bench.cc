@@ -1,6 +1,7 @@
 // The offline fitter's figures over the shared garments:
 //   fitbase_drape_bench --basis B.fbb [--garments a,b|all] [--sizes S,M,XL] [--jobs 2]
 //                       [--smoothness | --smoothness-only] [--smoothness-at C:S,...]
+//                       [--smoothness-around DIR]
 //                       [--out DIR] [--rows R.csv]
 // Drapes every garment in every size onto ten bodies (women and men: average, heavy, thin,
 // tall, short) and prints, per garment, seconds per drape (each drape single-threaded; --jobs
@@ -12,7 +13,10 @@
 // far doubling the iteration budget moves the result, and the second difference at d / 2 with
 // how the vertices over 1 mm scale (steady, like kinks, or smooth). --smoothness-at takes it
 // around other bodies too: the average body moved S sigma along component C, for each C:S,
-// with each garment's worst over them.
+// with each garment's worst over them. --smoothness-around takes it around every avatar of a
+// population folder instead of the average body (each moved by the points, so 0:0 is the
+// avatar's own mesh), with each drape's stretch and whether it is flagged too small, and the
+// median p99 of the flagged and of the others.
 // --supports drapes each garment (in --sizes) onto its wearers' mean avatar, their five bench
 // bodies and the extremes of the calibrated population (the tallest, shortest and heaviest
 // --extremes of 500 sampled avatars), and prints where the waistband, collar and leg hems sit
@@ -48,6 +52,7 @@
 #include "body/population_calibration.h"
 #include "core/triangle_bvh.h"
 #include "pipeline/garment_importer.h"
+#include "pipeline/population_folder.h"
 #include "pipeline/progress_reporter.h"
 #include "pipeline/skin_visibility.h"
 #include "proto/avatar_basis_codec.h"
@@ -302,16 +307,18 @@ absl::StatusOr<std::vector<SmoothnessPoint>> ParseSmoothnessPoints(const std::st
   return points;
 }
 
-// Per garment, on the average body of the garment's wearers (man for male_*, else woman)
-// moved to each point: a men's suit on a woman is a poor fit whose folds say little about the
-// solver. The step d is 0.1 sigma along the point's component. One point says little: a fold
-// that snaps between two resting places does so somewhere along a line of bodies
-// (female_casualsuit01's p99: 1.2 mm at the average woman, 9.5 mm 0.3 sigma below her along
-// component 0, simulator fitbase-newton-13). The second difference is also taken at half the step, to tell kinks from jumps
-// (ClassifyScaling). With more than one point, a summary gives each garment's worst.
+// Per garment, on the average body of the garment's wearers (man for male_*, else woman), or
+// on each of `around` when given, moved to each point: a men's suit on a woman is a poor fit
+// whose folds say little about the solver. The step d is 0.1 sigma along the point's component. One
+// point says little: a fold that snaps between two resting places does so somewhere along a line of
+// bodies (female_casualsuit01's p99: 1.2 mm at the average woman, 9.5 mm 0.3 sigma below her along
+// component 0, simulator fitbase-newton-13). The second difference is also taken at half the step,
+// to tell kinks from jumps (ClassifyScaling). With more than one point, a summary gives each
+// garment's worst.
 void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
-                     const v1::AvatarBasis& basis, const std::vector<SmoothnessPoint>& points,
-                     int jobs, const workers::ClothSettings& settings) {
+                     const std::vector<Body>& around, const v1::AvatarBasis& basis,
+                     const std::vector<SmoothnessPoint>& points, int jobs,
+                     const workers::ClothSettings& settings) {
   auto pca = proto::PcaBasisFromProto(basis);
   struct Worst {
     double p99 = 0, max = 0, budget = 0;
@@ -319,6 +326,8 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
     int over_2mm = 0;
   };
   std::vector<Worst> worst(imported.size());
+  // The p99 of the drapes flagged too small and of the others, per garment, around `around`.
+  std::vector<std::vector<double>> flagged_p99(imported.size()), fitting_p99(imported.size());
   for (const SmoothnessPoint& point : points) {
     const double sigma = std::sqrt(pca->variances(point.component));
     const Eigen::VectorXd step = 0.1 * sigma * pca->components.col(point.component);
@@ -326,76 +335,100 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
         Eigen::Map<const core::Positions>(step.data(), step.size() / 3, 3);
     const std::string where = absl::StrFormat("%d:%+.2f", point.component, point.sigmas);
     std::printf(
-        "\nsmoothness, size M, around the average body %+.2f sigma along component %d, d = "
+        "\nsmoothness, size M, around %s %+.2f sigma along component %d, d = "
         "0.1 sigma along it (mm; body moves %.1f mm mean, %.1f max):\n",
-        point.sigmas, point.component, 1000 * delta.rowwise().norm().mean(),
-        1000 * delta.rowwise().norm().maxCoeff());
-    std::printf("%-22s %-6s %12s %12s %9s %13s %13s %10s %11s %15s\n", "garment", "body",
-                "2nd_diff_max", "2nd_diff_p99", "over_1mm", "half_d_max", "half_d_p99",
-                "max/half", "steady/kinks", "budget_x2_mean");
+        around.empty() ? "the average body" : "each avatar", point.sigmas, point.component,
+        1000 * delta.rowwise().norm().mean(), 1000 * delta.rowwise().norm().maxCoeff());
+    std::printf("%-22s %-12s %12s %12s %9s %13s %13s %10s %11s %15s %12s\n", "garment", "body",
+                "2nd_diff_max", "2nd_diff_p99", "over_1mm", "half_d_max", "half_d_p99", "max/half",
+                "steady/kinks", "budget_x2_mean", "stretch_p99");
     for (size_t gi = 0; gi < imported.size(); ++gi) {
       const v1::Garment& g = imported[gi];
-      const bool male = absl::StartsWith(g.name(), "male_");
-      const Body& body = *std::find_if(bodies.begin(), bodies.end(), [&](const Body& b) {
-        return b.name == (male ? "man" : "woman");
-      });
-      const core::Positions b = body.positions + (point.sigmas / 0.1) * delta;
-      workers::DrapeSchedule twice;
-      twice.homotopy_steps *= 2;
-      twice.relax_steps *= 2;
-      struct Run {
-        core::Positions body;
-        workers::DrapeSchedule schedule;
-        absl::StatusOr<workers::GarmentFit> fit = absl::UnknownError("not run");
-      };
-      std::vector<Run> runs = {{b, {}},    {b + delta, {}},       {b - delta, {}},
-                               {b, twice}, {b + 0.5 * delta, {}}, {b - 0.5 * delta, {}}};
-      ForEachSideBySide(runs.size(), jobs, [&](size_t i) {
-        runs[i].fit = workers::DrapeGarment(g, "M", runs[i].body, settings, runs[i].schedule);
-      });
-      if (const auto failed =
-              std::find_if(runs.begin(), runs.end(), [](const Run& r) { return !r.fit.ok(); });
-          failed != runs.end()) {
-        std::printf("%-22s %-6s %s\n", g.name().c_str(), body.name.c_str(),
-                    std::string(failed->fit.status().message()).c_str());
-        continue;
+      std::vector<const Body*> centers;
+      for (const Body& body : around) centers.push_back(&body);
+      if (around.empty()) {
+        const bool male = absl::StartsWith(g.name(), "male_");
+        centers.push_back(&*std::find_if(bodies.begin(), bodies.end(), [&](const Body& b) {
+          return b.name == (male ? "man" : "woman");
+        }));
       }
-      const core::Positions& mid = runs[0].fit->positions;
-      const std::vector<double> full =
-          SecondDifference(runs[1].fit->positions, runs[2].fit->positions, mid);
-      const std::vector<double> half =
-          SecondDifference(runs[4].fit->positions, runs[5].fit->positions, mid);
-      const Scaling scaling = ClassifyScaling(full, half);
-      const double over =
-          static_cast<double>(
-              std::count_if(full.begin(), full.end(), [](double mm) { return mm > 1.0; })) /
-          static_cast<double>(full.size());
-      const double budget = 1000 * (runs[3].fit->positions - mid).rowwise().norm().mean();
-      const double p99 = workers::Quantile(full, 0.99);
-      const double max = *std::max_element(full.begin(), full.end());
-      std::printf("%-22s %-6s %12.3f %12.3f %8.1f%% %13.3f %13.3f %10.2f %5d/%-5d %15.3f\n",
-                  g.name().c_str(), body.name.c_str(), max, p99, 100 * over,
-                  *std::max_element(half.begin(), half.end()), workers::Quantile(half, 0.99),
-                  scaling.worst_ratio, scaling.steady, scaling.kinks, budget);
-      Worst& w = worst[gi];
-      if (p99 > w.p99) {
-        w.p99 = p99;
-        w.where = where;
+      for (const Body* center : centers) {
+        const Body& body = *center;
+        const core::Positions b = body.positions + (point.sigmas / 0.1) * delta;
+        workers::DrapeSchedule twice;
+        twice.homotopy_steps *= 2;
+        twice.relax_steps *= 2;
+        struct Run {
+          core::Positions body;
+          workers::DrapeSchedule schedule;
+          absl::StatusOr<workers::GarmentFit> fit = absl::UnknownError("not run");
+        };
+        std::vector<Run> runs = {{b, {}},    {b + delta, {}},       {b - delta, {}},
+                                 {b, twice}, {b + 0.5 * delta, {}}, {b - 0.5 * delta, {}}};
+        ForEachSideBySide(runs.size(), jobs, [&](size_t i) {
+          runs[i].fit = workers::DrapeGarment(g, "M", runs[i].body, settings, runs[i].schedule);
+        });
+        if (const auto failed =
+                std::find_if(runs.begin(), runs.end(), [](const Run& r) { return !r.fit.ok(); });
+            failed != runs.end()) {
+          std::printf("%-22s %-12s %s\n", g.name().c_str(), body.name.c_str(),
+                      std::string(failed->fit.status().message()).c_str());
+          continue;
+        }
+        const core::Positions& mid = runs[0].fit->positions;
+        const std::vector<double> full =
+            SecondDifference(runs[1].fit->positions, runs[2].fit->positions, mid);
+        const std::vector<double> half =
+            SecondDifference(runs[4].fit->positions, runs[5].fit->positions, mid);
+        const Scaling scaling = ClassifyScaling(full, half);
+        const double over = static_cast<double>(std::count_if(full.begin(), full.end(),
+                                                              [](double mm) { return mm > 1.0; })) /
+                            static_cast<double>(full.size());
+        const double budget = 1000 * (runs[3].fit->positions - mid).rowwise().norm().mean();
+        const double p99 = workers::Quantile(full, 0.99);
+        const double max = *std::max_element(full.begin(), full.end());
+        const v1::DrapeReport& report = runs[0].fit->report;
+        std::printf(
+            "%-22s %-12s %12.3f %12.3f %8.1f%% %13.3f %13.3f %10.2f %5d/%-5d %15.3f %11.1f%%%s\n",
+            g.name().c_str(), body.name.c_str(), max, p99, 100 * over,
+            *std::max_element(half.begin(), half.end()), workers::Quantile(half, 0.99),
+            scaling.worst_ratio, scaling.steady, scaling.kinks, budget, 100 * report.stretch_p99(),
+            report.overstretched() ? " too small" : "");
+        (report.overstretched() ? flagged_p99 : fitting_p99)[gi].push_back(p99);
+        Worst& w = worst[gi];
+        if (p99 > w.p99) {
+          w.p99 = p99;
+          w.where = around.empty() ? where : absl::StrCat(body.name, " ", where);
+        }
+        w.max = std::max(w.max, max);
+        w.budget = std::max(w.budget, budget);
+        w.over_2mm += p99 > 2.0;
       }
-      w.max = std::max(w.max, max);
-      w.budget = std::max(w.budget, budget);
-      w.over_2mm += p99 > 2.0;
     }
   }
-  if (points.size() < 2) return;
+  if (!around.empty()) {
+    std::printf("\nsmoothness around the %zu avatars, median 2nd_diff_p99 (mm):\n", around.size());
+    std::printf("%-22s %22s %22s\n", "garment", "flagged too small", "the others");
+    const auto median = [](std::vector<double> values) {
+      return values.empty()
+                 ? std::string("-")
+                 : absl::StrFormat("%.2f of %zu", workers::Quantile(values, 0.5), values.size());
+    };
+    for (size_t gi = 0; gi < imported.size(); ++gi) {
+      std::printf("%-22s %22s %22s\n", imported[gi].name().c_str(), median(flagged_p99[gi]).c_str(),
+                  median(fitting_p99[gi]).c_str());
+    }
+  }
+  if (points.size() * std::max<size_t>(1, around.size()) < 2) return;
   std::printf("\nsmoothness over the %zu points (COMPONENT:SIGMAS), worst of each garment:\n",
-              points.size());
-  std::printf("%-22s %12s %9s %12s %15s %15s\n", "garment", "2nd_diff_p99", "at",
+              points.size() * std::max<size_t>(1, around.size()));
+  std::printf("%-22s %12s %22s %12s %15s %15s\n", "garment", "2nd_diff_p99", "at",
               "2nd_diff_max", "p99_over_2mm", "budget_x2_mean");
   for (size_t gi = 0; gi < imported.size(); ++gi) {
     const Worst& w = worst[gi];
-    std::printf("%-22s %12.3f %9s %12.3f %9d of %-3zu %15.3f\n", imported[gi].name().c_str(),
-                w.p99, w.where.c_str(), w.max, w.over_2mm, points.size(), w.budget);
+    std::printf("%-22s %12.3f %22s %12.3f %9d of %-3zu %15.3f\n", imported[gi].name().c_str(), w.p99,
+                w.where.c_str(), w.max, w.over_2mm,
+                points.size() * std::max<size_t>(1, around.size()), w.budget);
   }
 }
 
@@ -829,10 +862,13 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(1, 64));
   app.add_flag("--smoothness", smoothness, "Also measure smoothness and budget doubling");
   app.add_flag("--smoothness-only", smoothness_only, "Only measure smoothness and budget doubling");
-  std::string smoothness_at = "0:0";
+  std::string smoothness_at = "0:0", smoothness_around;
   app.add_option("--smoothness-at", smoothness_at,
                  "Where the smoothness is taken: COMPONENT:SIGMAS,... from the average body "
                  "(default: 0:0)");
+  app.add_option("--smoothness-around", smoothness_around,
+                 "Take the smoothness around every avatar of this population folder, each moved "
+                 "by the --smoothness-at points, instead of around the average body");
   app.add_flag("--supports", supports,
                "Only measure where supports sit on bodies far from the mean (with --sizes)");
   app.add_option("--extremes", extremes,
@@ -916,6 +952,20 @@ int Main(int argc, char** argv) {
   }
   const std::vector<std::string> size_list = absl::StrSplit(sizes, ',');
   const std::vector<Body> bodies = TestBodies(*model);
+  std::vector<Body> around;
+  if (!smoothness_around.empty()) {
+    const absl::StatusOr<pipeline::Population> population =
+        pipeline::ReadPopulationFolder(smoothness_around);
+    if (!population.ok()) {
+      std::cerr << "--smoothness-around: " << population.status().message() << "\n";
+      return 1;
+    }
+    for (size_t i = 0; i < population->avatar_files.size(); ++i) {
+      const auto column = population->samples.col(static_cast<Eigen::Index>(i));
+      around.push_back({population->avatar_files[i].stem().string(),
+                        Eigen::Map<const core::Positions>(column.data(), column.size() / 3, 3)});
+    }
+  }
   if (!out.empty()) std::filesystem::create_directories(out);
 
   std::vector<v1::Garment> imported;
@@ -960,7 +1010,7 @@ int Main(int argc, char** argv) {
   }
   if (!smoothness_only) PrintPopulationTable(imported, bodies, size_list, jobs, rows, settings);
   if (smoothness || smoothness_only) {
-    PrintSmoothness(imported, bodies, basis, *smoothness_points, jobs, settings);
+    PrintSmoothness(imported, bodies, around, basis, *smoothness_points, jobs, settings);
   }
   return 0;
 }
