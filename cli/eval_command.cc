@@ -2,6 +2,7 @@
 // the agreement of its size advice with the drape's.
 #include <iostream>
 
+#include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "cli/cli_context.h"
 #include "core/file_util.h"
@@ -10,6 +11,7 @@
 #include "pipeline/clothing_basis_builder.h"
 #include "proto/json_codec.h"
 #include "proto/message_file.h"
+#include "workers/cloth_solver.h"
 
 namespace fitbase::cli {
 namespace {
@@ -31,6 +33,7 @@ struct EvalFlags {
   uint64_t sample_seed = 1;
   int jobs = 2;
   bool no_supports = false;
+  double friction = 0;
   workers::DrapeSchedule schedule;
   std::string cache;
   std::string out;
@@ -38,6 +41,10 @@ struct EvalFlags {
 };
 
 absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
+  // CLI11's range lets NaN through.
+  if (absl::Status friction = workers::CheckFriction(flags.friction); !friction.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("--", friction.message()));
+  }
   v1::AvatarBasis basis;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.basis, &basis));
   std::vector<v1::Garment> garments(flags.garments.size());
@@ -66,6 +73,7 @@ absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
   spec.sampled_drapes = flags.samples;
   spec.sample_seed = flags.sample_seed;
   spec.settings = flags.no_supports ? workers::WithoutSupports({}) : workers::ClothSettings{};
+  spec.settings.friction = flags.friction;
   spec.schedule = flags.schedule;
   spec.run = {.cache_dir = flags.cache.empty() ? out / "drapes" : fs::path(flags.cache),
               .jobs = flags.jobs,
@@ -141,6 +149,10 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
   eval->add_flag("--no-supports", flags->no_supports,
                  "Drape without the supports for bodies far from the mean (an elastic "
                  "waistband and collars held at their height), as drapes were before them");
+  eval->add_option("--friction", flags->friction,
+                   "Coulomb friction's mu in place of the ties to the skin, for every drape "
+                   "(default: 0, the ties)")
+      ->check(CLI::Range(0.0, workers::kMaxFriction));
   AddDrapeScheduleOptions(eval, flags->schedule);
   eval->add_option("--cache", flags->cache,
                    "Folder of drape results reused by content key (default: OUT/drapes)");

@@ -333,6 +333,53 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
   EXPECT_THAT(bad.err, HasSubstr("unknown clothing method 'magic'"));
 }
 
+// Friction in place of the ties is a setting of every drape the evaluation makes: its drapes
+// are other drapes than the default's, none of them taken from the default's cache.
+TEST_F(ClothingCliTest, EvalDrapesWithFrictionWhenAsked) {
+  const auto run = [&](const std::vector<std::string>& extra, const std::string& out) {
+    std::vector<std::string> args = {"eval",
+                                     "--basis",
+                                     Path("b.fbb"),
+                                     "--garment",
+                                     Path("g.fbg"),
+                                     "--methods",
+                                     "linear",
+                                     "--holdout",
+                                     "1",
+                                     "--seed",
+                                     "9",
+                                     "--homotopy-steps",
+                                     "2",
+                                     "--relax-steps",
+                                     "2",
+                                     "--cache",
+                                     Path("friction-cache"),
+                                     "--out",
+                                     Path(out)};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return RunFitbase(args);
+  };
+  const auto cached = [&] {
+    return std::distance(fs::directory_iterator(Path("friction-cache")), fs::directory_iterator{});
+  };
+  const Result tied = run({}, "tied");
+  ASSERT_EQ(tied.exit_code, 0) << tied.err;
+  const auto tied_drapes = cached();
+  // The held-out body and the basis's 5 axis examples.
+  EXPECT_EQ(tied_drapes, 6);
+  const Result sliding = run({"--friction", "0.8"}, "sliding");
+  ASSERT_EQ(sliding.exit_code, 0) << sliding.err;
+  EXPECT_EQ(cached(), 2 * tied_drapes);
+  EXPECT_NE(*core::ReadFileToString(Path("tied/report.json")),
+            *core::ReadFileToString(Path("sliding/report.json")));
+  for (const char* mu : {"-0.1", "nan", "11"}) {
+    const Result bad = run({"--friction", mu}, "bad");
+    EXPECT_NE(bad.exit_code, 0) << mu;
+    EXPECT_THAT(bad.err, HasSubstr("--friction")) << mu;
+  }
+  EXPECT_FALSE(fs::exists(Path("bad")));
+}
+
 // On the body of the weights the clean-up's body and the truth's are one, so what the
 // clean-up keeps clear is what penetration is measured against.
 TEST_F(ClothingCliTest, EvalCanDrapeTheTruthOnTheBodyOfTheWeights) {
