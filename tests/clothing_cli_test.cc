@@ -337,25 +337,10 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
 // are other drapes than the default's, none of them taken from the default's cache.
 TEST_F(ClothingCliTest, EvalDrapesWithFrictionWhenAsked) {
   const auto run = [&](const std::vector<std::string>& extra, const std::string& out) {
-    std::vector<std::string> args = {"eval",
-                                     "--basis",
-                                     Path("b.fbb"),
-                                     "--garment",
-                                     Path("g.fbg"),
-                                     "--methods",
-                                     "linear",
-                                     "--holdout",
-                                     "1",
-                                     "--seed",
-                                     "9",
-                                     "--homotopy-steps",
-                                     "2",
-                                     "--relax-steps",
-                                     "2",
-                                     "--cache",
-                                     Path("friction-cache"),
-                                     "--out",
-                                     Path(out)};
+    std::vector<std::string> args = {"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg")};
+    args.insert(args.end(), {"--methods", "linear", "--holdout", "1", "--seed", "9"});
+    args.insert(args.end(), {"--homotopy-steps", "2", "--relax-steps", "2"});
+    args.insert(args.end(), {"--cache", Path("friction-cache"), "--out", Path(out)});
     args.insert(args.end(), extra.begin(), extra.end());
     return RunFitbase(args);
   };
