@@ -328,6 +328,10 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
   std::vector<Worst> worst(imported.size());
   // The p99 of the drapes flagged too small and of the others, per garment, around `around`.
   std::vector<std::vector<double>> flagged_p99(imported.size()), fitting_p99(imported.size());
+  const size_t places = points.size() * std::max<size_t>(1, around.size());
+  workers::DrapeSchedule twice;
+  twice.homotopy_steps *= 2;
+  twice.relax_steps *= 2;
   for (const SmoothnessPoint& point : points) {
     const double sigma = std::sqrt(pca->variances(point.component));
     const Eigen::VectorXd step = 0.1 * sigma * pca->components.col(point.component);
@@ -355,9 +359,6 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
       for (const Body* center : centers) {
         const Body& body = *center;
         const core::Positions b = body.positions + (point.sigmas / 0.1) * delta;
-        workers::DrapeSchedule twice;
-        twice.homotopy_steps *= 2;
-        twice.relax_steps *= 2;
         struct Run {
           core::Positions body;
           workers::DrapeSchedule schedule;
@@ -419,16 +420,15 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
                   median(fitting_p99[gi]).c_str());
     }
   }
-  if (points.size() * std::max<size_t>(1, around.size()) < 2) return;
+  if (places < 2) return;
   std::printf("\nsmoothness over the %zu points (COMPONENT:SIGMAS), worst of each garment:\n",
-              points.size() * std::max<size_t>(1, around.size()));
+              places);
   std::printf("%-22s %12s %22s %12s %15s %15s\n", "garment", "2nd_diff_p99", "at",
               "2nd_diff_max", "p99_over_2mm", "budget_x2_mean");
   for (size_t gi = 0; gi < imported.size(); ++gi) {
     const Worst& w = worst[gi];
-    std::printf("%-22s %12.3f %22s %12.3f %9d of %-3zu %15.3f\n", imported[gi].name().c_str(), w.p99,
-                w.where.c_str(), w.max, w.over_2mm,
-                points.size() * std::max<size_t>(1, around.size()), w.budget);
+    std::printf("%-22s %12.3f %22s %12.3f %9d of %-3zu %15.3f\n", imported[gi].name().c_str(),
+                w.p99, w.where.c_str(), w.max, w.over_2mm, places, w.budget);
   }
 }
 

@@ -7,6 +7,8 @@
 
 #include "CLI/CLI.hpp"
 #include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "workers/cloth_solver.h"
 #include "workers/drape.h"
 
 namespace fitbase::cli {
@@ -24,6 +26,10 @@ std::filesystem::path ResolveDataDir(const CliContext& context);
 
 // --homotopy-steps and --relax-steps, for every command that drapes.
 void AddDrapeScheduleOptions(CLI::App* command, workers::DrapeSchedule& schedule);
+
+// The physics drape's settings from --no-supports and --friction; InvalidArgument naming
+// --friction for a mu CheckFriction refuses (CLI11's range lets NaN through).
+absl::StatusOr<workers::ClothSettings> ClothSettingsFromFlags(bool no_supports, double friction);
 
 void AddAvatarCommand(CLI::App& app, CliContext& context);
 void AddPopulationCommand(CLI::App& app, CliContext& context);

@@ -34,16 +34,12 @@ absl::Status RunDrape(const DrapeFlags& flags) {
     return absl::InvalidArgumentError(
         absl::StrCat("--method is '", flags.method, "'; expected drape or geometric"));
   }
-  if (absl::Status friction = workers::CheckFriction(flags.friction); !friction.ok()) {
-    return absl::InvalidArgumentError(absl::StrCat("--", friction.message()));
-  }
+  ASSIGN_OR_RETURN(const workers::ClothSettings settings,
+                   ClothSettingsFromFlags(flags.no_supports, flags.friction));
   if ((flags.no_supports || flags.friction > 0) && flags.method != "drape") {
     return absl::InvalidArgumentError(
         "--no-supports and --friction are settings of the physics drape only");
   }
-  workers::ClothSettings settings;
-  if (flags.no_supports) settings = workers::WithoutSupports(settings);
-  settings.friction = flags.friction;
   v1::Garment garment;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.garment, &garment));
   ASSIGN_OR_RETURN(core::Mesh avatar, pipeline::ReadAvatarObj(flags.avatar));
@@ -109,6 +105,16 @@ void AddDrapeScheduleOptions(CLI::App* command, workers::DrapeSchedule& schedule
                    absl::StrCat("Drape steps relaxing on the target body (default: ",
                                 schedule.relax_steps, ")"))
       ->check(CLI::Range(0, 10000));
+}
+
+absl::StatusOr<workers::ClothSettings> ClothSettingsFromFlags(bool no_supports, double friction) {
+  if (absl::Status status = workers::CheckFriction(friction); !status.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("--", status.message()));
+  }
+  workers::ClothSettings settings;
+  if (no_supports) settings = workers::WithoutSupports(settings);
+  settings.friction = friction;
+  return settings;
 }
 
 void AddDrapeCommand(CLI::App& app, CliContext& context) {

@@ -11,7 +11,6 @@
 #include "pipeline/clothing_basis_builder.h"
 #include "proto/json_codec.h"
 #include "proto/message_file.h"
-#include "workers/cloth_solver.h"
 
 namespace fitbase::cli {
 namespace {
@@ -41,10 +40,8 @@ struct EvalFlags {
 };
 
 absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
-  // CLI11's range lets NaN through.
-  if (absl::Status friction = workers::CheckFriction(flags.friction); !friction.ok()) {
-    return absl::InvalidArgumentError(absl::StrCat("--", friction.message()));
-  }
+  ASSIGN_OR_RETURN(const workers::ClothSettings settings,
+                   ClothSettingsFromFlags(flags.no_supports, flags.friction));
   v1::AvatarBasis basis;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.basis, &basis));
   std::vector<v1::Garment> garments(flags.garments.size());
@@ -72,8 +69,7 @@ absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
   spec.example_scale = flags.scale;
   spec.sampled_drapes = flags.samples;
   spec.sample_seed = flags.sample_seed;
-  spec.settings = flags.no_supports ? workers::WithoutSupports({}) : workers::ClothSettings{};
-  spec.settings.friction = flags.friction;
+  spec.settings = settings;
   spec.schedule = flags.schedule;
   spec.run = {.cache_dir = flags.cache.empty() ? out / "drapes" : fs::path(flags.cache),
               .jobs = flags.jobs,
