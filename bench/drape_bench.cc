@@ -885,7 +885,7 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(0.0, workers::kMaxFriction));
   app.add_option("--skin-tie", settings.skin_tie,
                  "Stiction, N/m per kg of cloth (default: ClothSettings's)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(0.0, workers::kMaxSkinTie));
   CLI::Option* anchor =
       app.add_option("--anchor", settings.anchor_stiffness,
                      "N/m holding a collar's height on the body (default: ClothSettings's)")
@@ -915,6 +915,10 @@ int Main(int argc, char** argv) {
   // CLI11's range lets NaN through.
   if (absl::Status friction = workers::CheckFriction(settings.friction); !friction.ok()) {
     std::cerr << "--" << friction.message() << "\n";
+    return 2;
+  }
+  if (absl::Status tie = workers::CheckSkinTie(settings.skin_tie, "--skin-tie"); !tie.ok()) {
+    std::cerr << tie.message() << "\n";
     return 2;
   }
   if (unsupported) settings = workers::WithoutSupports(settings);

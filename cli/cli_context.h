@@ -27,9 +27,20 @@ std::filesystem::path ResolveDataDir(const CliContext& context);
 // --homotopy-steps and --relax-steps, for every command that drapes.
 void AddDrapeScheduleOptions(CLI::App* command, workers::DrapeSchedule& schedule);
 
-// The physics drape's settings from --no-supports and --friction; InvalidArgument naming
-// --friction for a mu CheckFriction refuses (CLI11's range lets NaN through).
-absl::StatusOr<workers::ClothSettings> ClothSettingsFromFlags(bool no_supports, double friction);
+// The physics drape's settings a user may change, for every command that drapes.
+struct ClothFlags {
+  bool no_supports = false;
+  double friction = 0;
+  double skin_tie = workers::ClothSettings{}.skin_tie;
+};
+
+// --no-supports, --friction and --skin-tie.
+void AddClothOptions(CLI::App* command, ClothFlags& flags);
+
+// The physics drape's settings from those flags; InvalidArgument naming the flag for a value
+// CheckFriction or CheckSkinTie refuses (CLI11's ranges let NaN through), and for both
+// --friction and --skin-tie (friction replaces the ties).
+absl::StatusOr<workers::ClothSettings> ClothSettingsFromFlags(const ClothFlags& flags);
 
 void AddAvatarCommand(CLI::App& app, CliContext& context);
 void AddPopulationCommand(CLI::App& app, CliContext& context);

@@ -24,8 +24,7 @@ struct DrapeFlags {
   std::string out;
   std::string report;
   std::string method = "drape";
-  bool no_supports = false;
-  double friction = 0;
+  ClothFlags cloth;
   workers::DrapeSchedule schedule;
 };
 
@@ -34,11 +33,12 @@ absl::Status RunDrape(const DrapeFlags& flags) {
     return absl::InvalidArgumentError(
         absl::StrCat("--method is '", flags.method, "'; expected drape or geometric"));
   }
-  ASSIGN_OR_RETURN(const workers::ClothSettings settings,
-                   ClothSettingsFromFlags(flags.no_supports, flags.friction));
-  if ((flags.no_supports || flags.friction > 0) && flags.method != "drape") {
+  ASSIGN_OR_RETURN(const workers::ClothSettings settings, ClothSettingsFromFlags(flags.cloth));
+  if ((flags.cloth.no_supports || flags.cloth.friction > 0 ||
+       flags.cloth.skin_tie != workers::ClothSettings{}.skin_tie) &&
+      flags.method != "drape") {
     return absl::InvalidArgumentError(
-        "--no-supports and --friction are settings of the physics drape only");
+        "--no-supports, --friction and --skin-tie are settings of the physics drape only");
   }
   v1::Garment garment;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.garment, &garment));
@@ -107,13 +107,35 @@ void AddDrapeScheduleOptions(CLI::App* command, workers::DrapeSchedule& schedule
       ->check(CLI::Range(0, 10000));
 }
 
-absl::StatusOr<workers::ClothSettings> ClothSettingsFromFlags(bool no_supports, double friction) {
-  if (absl::Status status = workers::CheckFriction(friction); !status.ok()) {
+void AddClothOptions(CLI::App* command, ClothFlags& flags) {
+  command->add_flag("--no-supports", flags.no_supports,
+                    "Without the supports for bodies far from the mean (an elastic waistband "
+                    "and collars held at their height), as drapes were before them");
+  command
+      ->add_option("--friction", flags.friction,
+                   "Coulomb friction's mu in place of the ties to the skin (default: 0, the "
+                   "ties)")
+      ->check(CLI::Range(0.0, workers::kMaxFriction));
+  command
+      ->add_option(
+          "--skin-tie", flags.skin_tie,
+          absl::StrCat("The ties' stiffness, N/m per kg of cloth (default: ", flags.skin_tie, ")"))
+      ->check(CLI::Range(0.0, workers::kMaxSkinTie));
+}
+
+absl::StatusOr<workers::ClothSettings> ClothSettingsFromFlags(const ClothFlags& flags) {
+  if (absl::Status status = workers::CheckFriction(flags.friction); !status.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("--", status.message()));
   }
+  RETURN_IF_ERROR(workers::CheckSkinTie(flags.skin_tie, "--skin-tie"));
   workers::ClothSettings settings;
-  if (no_supports) settings = workers::WithoutSupports(settings);
-  settings.friction = friction;
+  if (flags.friction > 0 && flags.skin_tie != settings.skin_tie) {
+    return absl::InvalidArgumentError(
+        "--skin-tie and --friction together: friction takes the ties' place");
+  }
+  if (flags.no_supports) settings = workers::WithoutSupports(settings);
+  settings.friction = flags.friction;
+  settings.skin_tie = flags.skin_tie;
   return settings;
 }
 
@@ -129,14 +151,7 @@ void AddDrapeCommand(CLI::App& app, CliContext& context) {
   AddDrapeScheduleOptions(drape, flags->schedule);
   drape->add_option("--method", flags->method,
                     "drape (physics, default) or geometric (the .mhclo binding baseline)");
-  drape->add_flag("--no-supports", flags->no_supports,
-                  "Without the supports for bodies far from the mean (an elastic waistband "
-                  "and collars held at their height), as drapes were before them");
-  drape
-      ->add_option("--friction", flags->friction,
-                   "Coulomb friction's mu in place of the ties to the skin (default: 0, the "
-                   "ties)")
-      ->check(CLI::Range(0.0, workers::kMaxFriction));
+  AddClothOptions(drape, flags->cloth);
   drape->callback([&context, flags] { context.action = [flags] { return RunDrape(*flags); }; });
 }
 

@@ -31,8 +31,7 @@ struct EvalFlags {
   int samples = 0;
   uint64_t sample_seed = 1;
   int jobs = 2;
-  bool no_supports = false;
-  double friction = 0;
+  ClothFlags cloth;
   workers::DrapeSchedule schedule;
   std::string cache;
   std::string out;
@@ -40,8 +39,7 @@ struct EvalFlags {
 };
 
 absl::Status RunEval(const CliContext& context, const EvalFlags& flags) {
-  ASSIGN_OR_RETURN(const workers::ClothSettings settings,
-                   ClothSettingsFromFlags(flags.no_supports, flags.friction));
+  ASSIGN_OR_RETURN(const workers::ClothSettings settings, ClothSettingsFromFlags(flags.cloth));
   v1::AvatarBasis basis;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.basis, &basis));
   std::vector<v1::Garment> garments(flags.garments.size());
@@ -142,13 +140,7 @@ void AddEvalCommand(CLI::App& app, CliContext& context) {
   eval->add_option("--jobs", flags->jobs,
                    "Drapes side by side, and threads of the kernel model's search (default: 2)")
       ->check(CLI::Range(1, 256));
-  eval->add_flag("--no-supports", flags->no_supports,
-                 "Drape without the supports for bodies far from the mean (an elastic "
-                 "waistband and collars held at their height), as drapes were before them");
-  eval->add_option("--friction", flags->friction,
-                   "Coulomb friction's mu in place of the ties to the skin, for every drape "
-                   "(default: 0, the ties)")
-      ->check(CLI::Range(0.0, workers::kMaxFriction));
+  AddClothOptions(eval, flags->cloth);
   AddDrapeScheduleOptions(eval, flags->schedule);
   eval->add_option("--cache", flags->cache,
                    "Folder of drape results reused by content key (default: OUT/drapes)");

@@ -333,9 +333,10 @@ TEST_F(ClothingCliTest, EvalWritesTheAccuracyTable) {
   EXPECT_THAT(bad.err, HasSubstr("unknown clothing method 'magic'"));
 }
 
-// Friction in place of the ties is a setting of every drape the evaluation makes: its drapes
-// are other drapes than the default's, none of them taken from the default's cache.
-TEST_F(ClothingCliTest, EvalDrapesWithFrictionWhenAsked) {
+// Friction in place of the ties, and the ties' stiffness, are settings of every drape the
+// evaluation makes: its drapes are other drapes than the default's, none of them taken from the
+// default's cache.
+TEST_F(ClothingCliTest, EvalDrapesWithFrictionOrStifferTiesWhenAsked) {
   const auto run = [&](const std::vector<std::string>& extra, const std::string& out) {
     std::vector<std::string> args = {"eval", "--basis", Path("b.fbb"), "--garment", Path("g.fbg")};
     args.insert(args.end(), {"--methods", "linear", "--holdout", "1", "--seed", "9"});
@@ -357,10 +358,20 @@ TEST_F(ClothingCliTest, EvalDrapesWithFrictionWhenAsked) {
   EXPECT_EQ(cached(), 2 * tied_drapes);
   EXPECT_NE(*core::ReadFileToString(Path("tied/report.json")),
             *core::ReadFileToString(Path("sliding/report.json")));
+  const Result stiff = run({"--skin-tie", "1e6"}, "stiff");
+  ASSERT_EQ(stiff.exit_code, 0) << stiff.err;
+  EXPECT_EQ(cached(), 3 * tied_drapes);
+  EXPECT_NE(*core::ReadFileToString(Path("tied/report.json")),
+            *core::ReadFileToString(Path("stiff/report.json")));
   for (const char* mu : {"-0.1", "nan", "11"}) {
     const Result bad = run({"--friction", mu}, "bad");
     EXPECT_NE(bad.exit_code, 0) << mu;
     EXPECT_THAT(bad.err, HasSubstr("--friction")) << mu;
+  }
+  for (const char* tie : {"-1", "inf", "1e8"}) {
+    const Result bad = run({"--skin-tie", tie}, "bad");
+    EXPECT_NE(bad.exit_code, 0) << tie;
+    EXPECT_THAT(bad.err, HasSubstr("--skin-tie")) << tie;
   }
   EXPECT_FALSE(fs::exists(Path("bad")));
 }

@@ -124,7 +124,8 @@ TEST_F(GarmentCliTest, TurningTheSupportsOffChangesTheDrapeAndIsTheDrapesOnly) {
   const Result bad = RunFitbase(geometric);
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_THAT(bad.err,
-              HasSubstr("--no-supports and --friction are settings of the physics drape only"));
+              HasSubstr("--no-supports, --friction and --skin-tie are settings of the physics "
+                        "drape only"));
   EXPECT_FALSE(fs::exists(*dir_ / "geo.obj"));
 }
 
@@ -143,6 +144,28 @@ TEST_F(GarmentCliTest, FrictionInPlaceOfTheTiesChangesTheDrape) {
     EXPECT_NE(bad.exit_code, 0) << mu;
     EXPECT_THAT(bad.err, HasSubstr("--friction")) << mu;
   }
+  EXPECT_FALSE(fs::exists(*dir_ / "bad.obj"));
+}
+
+TEST_F(GarmentCliTest, StifferTiesChangeTheDrape) {
+  ASSERT_EQ(Drape("M", "tied").exit_code, 0);
+  const std::string garment = (*dir_ / "g.fbg").string();
+  const Result r = RunFitbase({"drape", "--garment", garment, "--avatar", Avatar().string(),
+                               "--skin-tie", "1e6", "--out", (*dir_ / "stiff.obj").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(*core::ReadFileToString(*dir_ / "stiff.obj"),
+            *core::ReadFileToString(*dir_ / "tied.obj"));
+  for (const char* tie : {"-1", "nan", "1e8"}) {
+    const Result bad = RunFitbase({"drape", "--garment", garment, "--avatar", Avatar().string(),
+                                   "--skin-tie", tie, "--out", (*dir_ / "bad.obj").string()});
+    EXPECT_NE(bad.exit_code, 0) << tie;
+    EXPECT_THAT(bad.err, HasSubstr("--skin-tie")) << tie;
+  }
+  const Result both =
+      RunFitbase({"drape", "--garment", garment, "--avatar", Avatar().string(), "--skin-tie", "1e6",
+                  "--friction", "0.8", "--out", (*dir_ / "bad.obj").string()});
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_THAT(both.err, HasSubstr("friction takes the ties' place"));
   EXPECT_FALSE(fs::exists(*dir_ / "bad.obj"));
 }
 

@@ -84,6 +84,18 @@ absl::Status CheckFriction(double mu) {
   return absl::OkStatus();
 }
 
+absl::Status CheckSkinTie(double tie, absl::string_view name) {
+  if (!std::isfinite(tie) || tie < 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(name, " = ", tie, " must be finite and not negative (N/m per kg)"));
+  }
+  if (tie > kMaxSkinTie) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(name, " = ", tie, " is over ", kMaxSkinTie, " N/m per kg"));
+  }
+  return absl::OkStatus();
+}
+
 Eigen::Vector3d ClothSolver::OnSkin(const core::TriangleBvh& body, const SkinPoint& skin) {
   const auto tri = body.triangles().row(skin.triangle);
   Eigen::Vector3d point = Eigen::Vector3d::Zero();

@@ -8,6 +8,7 @@
 
 #include "Eigen/Core"
 #include "absl/status/status.h"
+#include "absl/strings/string_view.h"
 #include "core/mesh.h"
 #include "core/triangle_bvh.h"
 #include "workers/cloth_model.h"
@@ -173,6 +174,16 @@ inline constexpr double kMaxFriction = 10;
 // [0, kMaxFriction]: the one check of ClothSettings::friction for every caller (a build's spec,
 // the command line, the bench).
 absl::Status CheckFriction(double mu);
+
+// The largest ClothSettings::skin_tie a drape takes, N/m per kg of cloth. A vertex weighs about
+// 0.1 g, so a tie is then about 1,000 N/m: beyond, the ties would be as stiff as the cloth's
+// own springs and contact, and the garment could not leave the skin points it started over.
+inline constexpr double kMaxSkinTie = 1e7;
+
+// InvalidArgument, naming `name` and the value, unless `tie` is finite and in [0, kMaxSkinTie]:
+// the one check of ClothSettings::skin_tie for every caller (a build's spec as `skin_tie`, the
+// command line as `--skin-tie`).
+absl::Status CheckSkinTie(double tie, absl::string_view name);
 
 // `settings` with the supports for bodies far from the mean off: no elastic, and the waistband
 // and collars held at kUnsupportedAnchorStiffness, as every drape was before them (simulator

@@ -93,7 +93,9 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   RETURN_IF_ERROR(CheckShare("area_floor", p.area_floor()));
   RETURN_IF_ERROR(CheckNonNegative("bending_rigidity", p.bending_rigidity()));
   RETURN_IF_ERROR(CheckNonNegative("anchor_stiffness", p.anchor_stiffness()));
-  RETURN_IF_ERROR(CheckNonNegative("skin_tie", p.skin_tie()));
+  if (absl::Status tie = CheckSkinTie(p.skin_tie(), "skin_tie"); !tie.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("drape setting ", tie.message()));
+  }
   if (absl::Status friction = CheckFriction(p.friction()); !friction.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("drape setting ", friction.message()));
   }

@@ -103,6 +103,14 @@ TEST_F(DrapeTaskSpecTest, RefusesBadBodiesAndSettingsNamingTheProblem) {
   EXPECT_THAT(DrapeTaskFromSpec(spec),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "friction = 1e+06 is over 10"));
   spec = good;
+  spec.mutable_settings()->set_skin_tie(std::numeric_limits<double>::infinity());
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "skin_tie"));
+  spec = good;
+  spec.mutable_settings()->set_skin_tie(1e9);
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument, "skin_tie = 1e+09 is over 1e+07"));
+  spec = good;
   spec.mutable_settings()->set_relax_steps(1000000);
   EXPECT_THAT(DrapeTaskFromSpec(spec),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "relax_steps"));

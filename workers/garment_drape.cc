@@ -110,17 +110,16 @@ v1::DrapeReport ReportOf(const v1::Garment& garment, absl::string_view size,
   return r;
 }
 
-// How close the cuffs sit to the skin of `body` (13,380 x 3, m; its triangles): their
-// vertices' mean distance from it.
-absl::Status SetCuffGap(const PreparedGarment& g, const core::Positions& positions,
-                        const core::Positions& body, v1::DrapeReport* report) {
-  if (g.supports.cuffs.empty()) return absl::OkStatus();
-  ASSIGN_OR_RETURN(core::TriangleBvh bvh, core::TriangleBvh::Build(body, g.body_triangles));
+// How close the cuffs sit to the skin of `body` (the avatar's surface): their vertices' mean
+// distance from it. `positions`: V x 3, m.
+void SetCuffGap(const PreparedGarment& g, const core::Positions& positions,
+                const core::TriangleBvh& body, v1::DrapeReport* report) {
+  if (g.supports.cuffs.empty()) return;
   double sum = 0;
   int count = 0;
   for (int32_t cuff : g.supports.cuffs) {
     for (int32_t v : g.model.openings[cuff].vertices) {
-      const core::SurfacePoint hit = bvh.Closest(positions.row(v).transpose(), 1.0);
+      const core::SurfacePoint hit = body.Closest(positions.row(v).transpose(), 1.0);
       if (!hit.found) continue;
       sum += std::abs(hit.signed_distance);
       ++count;
@@ -128,7 +127,6 @@ absl::Status SetCuffGap(const PreparedGarment& g, const core::Positions& positio
   }
   report->set_cuff_count(static_cast<uint32_t>(g.supports.cuffs.size()));
   if (count > 0) report->set_cuff_gap_mm(kMmPerMeter * sum / count);
-  return absl::OkStatus();
 }
 
 void SetSupports(const SupportHeights& supports, v1::DrapeReport* report) {
@@ -179,7 +177,11 @@ absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string
   SetSupports(
       MeasureSupports(g.model, g.supports, g.mean_body, fit.positions, target_body),
       &fit.report);
-  RETURN_IF_ERROR(SetCuffGap(g, fit.positions, target_body, &fit.report));
+  if (!g.supports.cuffs.empty()) {
+    ASSIGN_OR_RETURN(core::TriangleBvh body,
+                     core::TriangleBvh::Build(target_body, g.body_triangles));
+    SetCuffGap(g, fit.positions, body, &fit.report);
+  }
   fit.report.set_converged_max_move_mm(drape.converged_max_move_mm);
   fit.report.set_steps(static_cast<uint32_t>(drape.steps));
   fit.report.set_seconds(drape.seconds);
@@ -216,7 +218,7 @@ absl::StatusOr<GarmentFit> GeometricFit(const v1::Garment& garment, absl::string
   SetSupports(
       MeasureSupports(g.model, g.supports, g.mean_body, fit.positions, target_body),
       &fit.report);
-  RETURN_IF_ERROR(SetCuffGap(g, fit.positions, target_body, &fit.report));
+  SetCuffGap(g, fit.positions, target_bvh, &fit.report);
   fit.report.set_seconds(
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return fit;
