@@ -182,8 +182,8 @@ inline constexpr double kMaxFriction = 10;
 absl::Status CheckFriction(double mu);
 
 // The largest ClothSettings::skin_tie a drape takes, N/m per kg of cloth. A vertex weighs about
-// 0.1 g, so a tie is then about 1,000 N/m: beyond, the ties would be as stiff as the cloth's
-// own springs and contact, and the garment could not leave the skin points it started over.
+// 0.1 g, so a tie is then about 1,000 N/m: beyond, the ties would near the cloth's own springs
+// and its contact (2e4 N/m), and the garment could not leave the skin points it started over.
 inline constexpr double kMaxSkinTie = 1e7;
 
 // InvalidArgument, naming `name` and the value, unless `tie` is finite and in [0, kMaxSkinTie]:
