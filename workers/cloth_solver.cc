@@ -105,6 +105,34 @@ Eigen::Vector3d ClothSolver::OnSkin(const core::TriangleBvh& body, const SkinPoi
   return point;
 }
 
+double ClothSolver::CarriedGirthRatio(const core::Positions& body,
+                                      const core::Triangles& triangles) const {
+  core::Positions carried = positions_;
+  for (const SkinTie& tie : ties_) {
+    Eigen::Vector3d point = tie.offset;
+    for (int k = 0; k < 3; ++k) {
+      point += tie.skin.barycentric(k) * body.row(triangles(tie.skin.triangle, k)).transpose();
+    }
+    carried.row(tie.vertex) = point.transpose();
+  }
+  double girth = 0;
+  double rest_girth = 0;
+  for (size_t e = 0; e < model_.edges.size(); ++e) {
+    const auto [i, j] = model_.edges[e];
+    const Eigen::Index index = static_cast<Eigen::Index>(e);
+    girth += edge_across_(index) * (carried.row(i) - carried.row(j)).norm();
+    rest_girth += edge_across_(index) * edge_rest_(index);
+  }
+  return rest_girth > 0 ? girth / rest_girth : 1.0;
+}
+
+double TightTieFactor(const ClothSettings& settings, double girth_ratio) {
+  const double span = settings.tight_girth_full - settings.tight_girth_from;
+  const double u = span > 0 ? std::clamp((girth_ratio - settings.tight_girth_from) / span, 0.0, 1.0)
+                            : (girth_ratio >= settings.tight_girth_full ? 1.0 : 0.0);
+  return std::pow(settings.tight_tie_factor, u * u * (3 - 2 * u));
+}
+
 void ClothSolver::HoldAnchors(const core::TriangleBvh& body) {
   // A band's anchors keep their heights over their skin points, and the band as a whole is
   // shifted to keep its mean place on the rise. Held on the rise vertex by vertex, a band
@@ -322,6 +350,14 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
       band_shares_[band] = anchored > 0 ? (band_shares_[band] / anchored - crotch) / rise : 0;
     }
   }
+  edge_across_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.edges.size()));
+  for (size_t e = 0; e < model.edges.size(); ++e) {
+    const Eigen::Vector3d d = start.row(model.edges[e][0]) - start.row(model.edges[e][1]);
+    const double length = d.norm();
+    // Welds (two coincident seam vertices) have no direction.
+    if (length > 0)
+      edge_across_(static_cast<Eigen::Index>(e)) = 1 - d.y() * d.y() / (length * length);
+  }
   hinge_weights_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.hinges.size()));
   for (size_t h = 0; h < model.hinges.size(); ++h) {
     const auto& v = model.hinges[h];
@@ -467,11 +503,14 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     const AnchorBinding& a = anchors_[i];
     const double c =
         x(a.vertex, 1) - anchor_over_skin_[i] - (a.band >= 0 ? band_shifts_[a.band] : 0.0);
-    out->energy += 0.5 * a.stiffness * c * c;
+    // A size too small holds its band and collars at their height as much more firmly as its
+    // ties, or the ties of a long leg would drag the band down it.
+    const double stiffness = a.stiffness * tie_factor_;
+    out->energy += 0.5 * stiffness * c * c;
     if (!derivatives) continue;
-    out->gradient(3 * a.vertex + 1) += a.stiffness * c;
+    out->gradient(3 * a.vertex + 1) += stiffness * c;
     Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
-    block(1, 1) = a.stiffness;
+    block(1, 1) = stiffness;
     pattern_->AddVertex(a.vertex, block, out->hessian);
   }
   const bool friction = settings_.friction > 0;
@@ -483,7 +522,7 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
         Eigen::Matrix3d::Identity() - normal * normal.transpose();
     // Friction's hold reaches mu N at kStaticSlip; the stiction is a spring without limit.
     const double k = friction ? settings_.friction * tie_normal_forces_[i] / kStaticSlip
-                              : settings_.skin_tie * masses_(tie.vertex);
+                              : settings_.skin_tie * tie_factor_ * masses_(tie.vertex);
     const double yield = kStaticSlip;
     const Eigen::Vector3d slip =
         tangential * (x.row(tie.vertex).transpose() - tie_holds_[i].target);

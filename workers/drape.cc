@@ -80,6 +80,10 @@ absl::StatusOr<DrapeResult> Drape(const DrapeInput& in, const ClothSettings& set
   ASSIGN_OR_RETURN(core::TriangleBvh body, core::TriangleBvh::Build(in.mean_body, in.body_triangles));
   ClothSolver solver(*in.model, in.start, in.edge_rest, in.hinge_rest, in.supports, body,
                      settings);
+  if (settings.friction == 0) {
+    solver.FirmTies(
+        TightTieFactor(settings, solver.CarriedGirthRatio(in.target_body, in.body_triangles)));
+  }
   DrapeResult result;
   for (int step = 1; step <= schedule.homotopy_steps; ++step) {
     const double t = static_cast<double>(step) / schedule.homotopy_steps;

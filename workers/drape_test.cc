@@ -282,18 +282,78 @@ TEST_F(DrapeTest, LargerSizeSitsLooser) {
   EXPECT_GT(small->metrics.stretch_p99, large->metrics.stretch_p99);
 }
 
+TEST_F(DrapeTest, TheCarriedGirthRatioIsHowMuchTooNarrowTheSizeIsForTheBody) {
+  auto girth_ratio = [&](const DrapeInput& in) {
+    auto body = core::TriangleBvh::Build(in.mean_body, in.body_triangles);
+    EXPECT_TRUE(body.ok());
+    if (!body.ok()) return 0.0;
+    const ClothSolver solver(model_, in.start, in.edge_rest, in.hinge_rest, in.supports, *body,
+                             ClothSettings{});
+    return solver.CarriedGirthRatio(in.target_body, in.body_triangles);
+  };
+  EXPECT_NEAR(girth_ratio(Input(1.0, 1.0)), 1.0, 1e-9);
+  // A size cut 10% narrower and shorter, on the body it was made for.
+  EXPECT_NEAR(girth_ratio(Input(1.0, 0.9)), 1 / 0.9, 1e-9);
+  // The skirt hangs 2.5 cm off the waist, and its offset is carried as it is: a body 10% larger
+  // all round widens it by less.
+  const double wider = girth_ratio(Input(1.1, 1.0));
+  EXPECT_GT(wider, 1.05);
+  EXPECT_LT(wider, 1.1);
+  // A body only longer leaves the skirt's girth as it was: only its length grows.
+  DrapeInput longer = Input(1.0, 1.0);
+  longer.target_body.col(1) *= 1.1;
+  EXPECT_LT(girth_ratio(longer), 1.01);
+}
+
+TEST(TightTieFactorTest, FirmsFromNoneToTheFullFactorAcrossTheRamp) {
+  const ClothSettings settings;
+  EXPECT_EQ(TightTieFactor(settings, settings.tight_girth_from - 0.01), 1.0);
+  EXPECT_DOUBLE_EQ(TightTieFactor(settings, settings.tight_girth_full + 0.01),
+                   settings.tight_tie_factor);
+  // Halfway the smoothstep is at a half, the factor at its square root.
+  EXPECT_NEAR(
+      TightTieFactor(settings, 0.5 * (settings.tight_girth_from + settings.tight_girth_full)),
+      std::sqrt(settings.tight_tie_factor), 1e-9);
+  double last = 1;
+  for (double ratio = 0.95; ratio < 1.06; ratio += 0.001) {
+    const double factor = TightTieFactor(settings, ratio);
+    EXPECT_GE(factor, last);
+    EXPECT_LT(factor, last * 1.2) << "a step of 0.001 in the ratio at " << ratio;
+    last = factor;
+  }
+}
+
+TEST_F(DrapeTest, TiesFirmOnASizeTooSmallAndNotOnOneThatFits) {
+  ClothSettings never = ClothSettings{};
+  never.tight_tie_factor = 1;
+  // 11% too narrow for the waist it was made for: firm ties move the drape.
+  auto firm = Drape(Input(1.0, 0.9));
+  auto soft = Drape(Input(1.0, 0.9), never);
+  ASSERT_TRUE(firm.ok() && soft.ok());
+  EXPECT_GT(1000 * (firm->positions - soft->positions).rowwise().norm().maxCoeff(), 0.1);
+  // 10% wider than it: the same drape to the bit.
+  auto fits = Drape(Input(1.0, 1.1));
+  auto fits_never = Drape(Input(1.0, 1.1), never);
+  ASSERT_TRUE(fits.ok() && fits_never.ok());
+  EXPECT_EQ(Hash(fits->positions), Hash(fits_never->positions));
+}
+
 TEST_F(DrapeTest, ConvergesUnderTheFixedBudget) {
   // Both a snug band and the free hem of the skirt come to rest: the last step moves no
-  // vertex by more than a micrometer.
+  // vertex by more than a micrometer, or twenty where the size is too small for the body and its
+  // band is held more firmly (TightTieFactor), which Newton resolves more slowly.
   const core::Mesh band = Tube(0.16, -0.06, 0.06, 6, 24);
   auto model = BuildClothModel(band.positions, band.faces, 0.2);
   ASSERT_TRUE(model.ok());
   auto snug = Drape(BandInput(band, *model, 0.9));
   ASSERT_TRUE(snug.ok());
   EXPECT_LT(snug->converged_max_move_mm, 1e-3);
-  auto skirt = Drape(Input(1.1, 1.0));
+  auto skirt = Drape(Input(1.1, 1.2));
   ASSERT_TRUE(skirt.ok());
   EXPECT_LT(skirt->converged_max_move_mm, 1e-3);
+  auto tight = Drape(Input(1.1, 1.0));
+  ASSERT_TRUE(tight.ok());
+  EXPECT_LT(tight->converged_max_move_mm, 2e-2);
 }
 
 TEST_F(DrapeTest, DoublingTheBudgetBarelyMovesTheResult) {
@@ -315,19 +375,23 @@ TEST_F(DrapeTest, TheRelaxationSolvesWhatThePathLeft) {
   // the relaxation solves what they leave. The cap cannot go to one iteration: the
   // relaxation then ends 8 mm off too. The stiff waistband elastic and its anchor converge
   // last.
-  ClothSettings exact;
+  // With the ties of a size that fits: on this body, 30% larger, the size is too small and its
+  // firm ties make every step all but quadratic, so that one iteration nears the minimum.
+  ClothSettings soft_ties;
+  soft_ties.tight_tie_factor = 1;
+  ClothSettings exact = soft_ties;
   exact.newton_iterations = 200;
   exact.path_newton_iterations = 200;
   exact.newton_tolerance = 1e-9;
-  ClothSettings single;
+  ClothSettings single = soft_ties;
   single.newton_iterations = 1;
   single.path_newton_iterations = 1;
   const DrapeSchedule no_relax{.homotopy_steps = DrapeSchedule{}.homotopy_steps,
                                .relax_steps = 0};
-  auto solved = Drape(Input(1.3, 1.0));
+  auto solved = Drape(Input(1.3, 1.0), soft_ties);
   auto reference = Drape(Input(1.3, 1.0), exact);
   auto rough = Drape(Input(1.3, 1.0), single);
-  auto path_only = Drape(Input(1.3, 1.0), ClothSettings{}, no_relax);
+  auto path_only = Drape(Input(1.3, 1.0), soft_ties, no_relax);
   ASSERT_TRUE(solved.ok() && reference.ok() && rough.ok() && path_only.ok());
   auto off_mm = [&](const DrapeResult& r) {
     return 1000 * (r.positions - reference->positions).cwiseAbs().maxCoeff();
