@@ -886,6 +886,14 @@ int Main(int argc, char** argv) {
   app.add_option("--skin-tie", settings.skin_tie,
                  "Stiction, N/m per kg of cloth (default: ClothSettings's)")
       ->check(CLI::Range(0.0, workers::kMaxSkinTie));
+  app.add_option("--tight-tie-factor", settings.tight_tie_factor,
+                 "How many times firmer the ties and supports are on a size too small for the "
+                 "body (1: never; default: ClothSettings's)");
+  app.add_option("--tight-girth-from", settings.tight_girth_from,
+                 "Carried girth ratio where the ties start to firm (default: ClothSettings's)");
+  app.add_option("--tight-girth-full", settings.tight_girth_full,
+                 "Carried girth ratio where they reach --tight-tie-factor (default: "
+                 "ClothSettings's)");
   CLI::Option* anchor =
       app.add_option("--anchor", settings.anchor_stiffness,
                      "N/m holding a collar's height on the body (default: ClothSettings's)")
@@ -919,6 +927,11 @@ int Main(int argc, char** argv) {
   }
   if (absl::Status tie = workers::CheckSkinTie(settings.skin_tie, "--skin-tie"); !tie.ok()) {
     std::cerr << tie.message() << "\n";
+    return 2;
+  }
+  if (absl::Status tight = workers::CheckTightTies(settings); !tight.ok()) {
+    std::cerr << tight.message()
+              << " (--tight-tie-factor, --tight-girth-from, --tight-girth-full)\n";
     return 2;
   }
   if (unsupported) settings = workers::WithoutSupports(settings);

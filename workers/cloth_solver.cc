@@ -96,6 +96,27 @@ absl::Status CheckSkinTie(double tie, absl::string_view name) {
   return absl::OkStatus();
 }
 
+absl::Status CheckTightTies(const ClothSettings& settings) {
+  const double factor = settings.tight_tie_factor;
+  if (!std::isfinite(factor) || factor < 1 || factor > kMaxTightTieFactor) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("tight_tie_factor = ", factor, " must be in [1, ", kMaxTightTieFactor, "]"));
+  }
+  for (const auto& [name, ratio] : {std::pair{"tight_girth_from", settings.tight_girth_from},
+                                    std::pair{"tight_girth_full", settings.tight_girth_full}}) {
+    if (!std::isfinite(ratio) || ratio < 0.5 || ratio > 2) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(name, " = ", ratio, " must be a carried girth ratio in [0.5, 2]"));
+    }
+  }
+  if (settings.tight_girth_from > settings.tight_girth_full) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("tight_girth_from = ", settings.tight_girth_from,
+                     " is over tight_girth_full = ", settings.tight_girth_full));
+  }
+  return absl::OkStatus();
+}
+
 Eigen::Vector3d ClothSolver::OnSkin(const core::TriangleBvh& body, const SkinPoint& skin) {
   const auto tri = body.triangles().row(skin.triangle);
   Eigen::Vector3d point = Eigen::Vector3d::Zero();

@@ -213,6 +213,16 @@ inline constexpr double kMaxSkinTie = 1e7;
 // command line as `--skin-tie`).
 absl::Status CheckSkinTie(double tie, absl::string_view name);
 
+// The largest ClothSettings::tight_tie_factor a drape takes. At 100 (the default) the ties
+// near the cloth's own springs; a thousand times the default ties would reach kMaxSkinTie.
+inline constexpr double kMaxTightTieFactor = 1e3;
+
+// InvalidArgument, naming the setting and its value, unless ClothSettings::tight_tie_factor is
+// finite and in [1, kMaxTightTieFactor] (1: never firmer) and the ramp's ends
+// tight_girth_from <= tight_girth_full are finite and in [0.5, 2]: the one check of the firm
+// ties' settings for every caller (the bench's --tight-* flags).
+absl::Status CheckTightTies(const ClothSettings& settings);
+
 // How much firmer the ties and supports are for a drape onto a body of carried girth ratio
 // `girth_ratio` (ClothSolver::CarriedGirthRatio): 1 to ClothSettings::tight_tie_factor.
 double TightTieFactor(const ClothSettings& settings, double girth_ratio);

@@ -323,6 +323,42 @@ TEST(TightTieFactorTest, FirmsFromNoneToTheFullFactorAcrossTheRamp) {
   }
 }
 
+TEST(TightTieFactorTest, TheCheckTakesTheDefaultAndNamesWhatItRefuses) {
+  EXPECT_TRUE(CheckTightTies(ClothSettings{}).ok());
+  ClothSettings never;
+  never.tight_tie_factor = 1;
+  EXPECT_TRUE(CheckTightTies(never).ok());
+  const auto refused = [](auto change) {
+    ClothSettings settings;
+    change(settings);
+    const absl::Status status = CheckTightTies(settings);
+    EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument);
+    return std::string(status.message());
+  };
+  EXPECT_NE(refused([](ClothSettings& s) { s.tight_tie_factor = 0.5; }).find("tight_tie_factor"),
+            std::string::npos);
+  EXPECT_NE(refused([](ClothSettings& s) {
+              s.tight_tie_factor = kMaxTightTieFactor * 2;
+            }).find("tight_tie_factor"),
+            std::string::npos);
+  EXPECT_NE(refused([](ClothSettings& s) {
+              s.tight_tie_factor = std::numeric_limits<double>::quiet_NaN();
+            }).find("tight_tie_factor"),
+            std::string::npos);
+  EXPECT_NE(refused([](ClothSettings& s) {
+              s.tight_girth_from = std::numeric_limits<double>::infinity();
+            }).find("tight_girth_from"),
+            std::string::npos);
+  EXPECT_NE(refused([](ClothSettings& s) { s.tight_girth_full = 3; }).find("tight_girth_full"),
+            std::string::npos);
+  // A ramp that ends before it starts.
+  EXPECT_NE(refused([](ClothSettings& s) {
+              s.tight_girth_from = 1.1;
+              s.tight_girth_full = 1.0;
+            }).find("is over tight_girth_full"),
+            std::string::npos);
+}
+
 TEST_F(DrapeTest, TiesFirmOnASizeTooSmallAndNotOnOneThatFits) {
   ClothSettings never = ClothSettings{};
   never.tight_tie_factor = 1;
