@@ -314,13 +314,20 @@ TEST(TightTieFactorTest, FirmsFromNoneToTheFullFactorAcrossTheRamp) {
   EXPECT_NEAR(
       TightTieFactor(settings, 0.5 * (settings.tight_girth_from + settings.tight_girth_full)),
       std::sqrt(settings.tight_tie_factor), 1e-9);
+  // No jump: a step in the ratio moves the factor's logarithm by at most the smoothstep's
+  // steepest slope, 1.5 over the ramp's width.
+  const double step = 0.001;
+  const double steepest = 1.5 * std::log(settings.tight_tie_factor) * step /
+                          (settings.tight_girth_full - settings.tight_girth_from);
   double last = 1;
-  for (double ratio = 0.95; ratio < 1.12; ratio += 0.001) {
+  for (double ratio = settings.tight_girth_from - 0.05; ratio < settings.tight_girth_full + 0.05;
+       ratio += step) {
     const double factor = TightTieFactor(settings, ratio);
     EXPECT_GE(factor, last);
-    EXPECT_LT(factor, last * 1.2) << "a step of 0.001 in the ratio at " << ratio;
+    EXPECT_LE(std::log(factor / last), steepest * (1 + 1e-9)) << "at a ratio of " << ratio;
     last = factor;
   }
+  EXPECT_EQ(last, settings.tight_tie_factor);
 }
 
 TEST(TightTieFactorTest, TheCheckTakesTheDefaultAndNamesWhatItRefuses) {
