@@ -343,9 +343,9 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
         "0.1 sigma along it (mm; body moves %.1f mm mean, %.1f max):\n",
         around.empty() ? "the average body" : "each avatar", point.sigmas, point.component,
         1000 * delta.rowwise().norm().mean(), 1000 * delta.rowwise().norm().maxCoeff());
-    std::printf("%-22s %-12s %12s %12s %9s %13s %13s %10s %11s %15s %12s\n", "garment", "body",
+    std::printf("%-22s %-12s %12s %12s %9s %13s %13s %10s %11s %15s %11s %12s\n", "garment", "body",
                 "2nd_diff_max", "2nd_diff_p99", "over_1mm", "half_d_max", "half_d_p99", "max/half",
-                "steady/kinks", "budget_x2_mean", "stretch_p99");
+                "steady/kinks", "budget_x2_mean", "girth_ratio", "stretch_p99");
     for (size_t gi = 0; gi < imported.size(); ++gi) {
       const v1::Garment& g = imported[gi];
       std::vector<const Body*> centers;
@@ -390,10 +390,12 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
         const double max = *std::max_element(full.begin(), full.end());
         const v1::DrapeReport& report = runs[0].fit->report;
         std::printf(
-            "%-22s %-12s %12.3f %12.3f %8.1f%% %13.3f %13.3f %10.2f %5d/%-5d %15.3f %11.1f%%%s\n",
+            "%-22s %-12s %12.3f %12.3f %8.1f%% %13.3f %13.3f %10.2f %5d/%-5d %15.3f %11.3f "
+            "%11.1f%%%s\n",
             g.name().c_str(), body.name.c_str(), max, p99, 100 * over,
             *std::max_element(half.begin(), half.end()), workers::Quantile(half, 0.99),
-            scaling.worst_ratio, scaling.steady, scaling.kinks, budget, 100 * report.stretch_p99(),
+            scaling.worst_ratio, scaling.steady, scaling.kinks, budget,
+            report.carried_girth_ratio(), 100 * report.stretch_p99(),
             report.overstretched() ? " too small" : "");
         (report.overstretched() ? flagged_p99 : fitting_p99)[gi].push_back(p99);
         Worst& w = worst[gi];

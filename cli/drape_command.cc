@@ -89,6 +89,12 @@ absl::Status RunDrape(const DrapeFlags& flags) {
     supports.pop_back();
     std::cout << "supports:" << supports << "\n";
   }
+  if (r.has_carried_girth_ratio()) {
+    std::cout << absl::StrFormat(
+        "ties: the size's girth carried onto this body is %.3f of its own; ties and supports "
+        "%.3g times as firm\n",
+        r.carried_girth_ratio(), r.tie_factor());
+  }
   return absl::OkStatus();
 }
 

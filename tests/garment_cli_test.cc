@@ -97,10 +97,16 @@ TEST_F(GarmentCliTest, RepeatedDrapeGivesIdenticalBytes) {
 }
 
 TEST_F(GarmentCliTest, SizeChangesTheDrapeButNotTheGeometricFit) {
-  ASSERT_EQ(Drape("S", "s").exit_code, 0);
+  const Result s = Drape("S", "s");
+  ASSERT_EQ(s.exit_code, 0);
+  EXPECT_THAT(s.out, HasSubstr("ties: the size's girth carried onto this body is"));
   ASSERT_EQ(Drape("XL", "xl").exit_code, 0);
   EXPECT_GT(Report("xl").ease_mean_mm(), Report("s").ease_mean_mm());
+  // The smaller size is the tighter on the same body, before the drape.
+  EXPECT_GT(Report("s").carried_girth_ratio(), Report("xl").carried_girth_ratio());
+  EXPECT_GE(Report("s").tie_factor(), Report("xl").tie_factor());
   ASSERT_EQ(Drape("S", "geo_s", "geometric").exit_code, 0);
+  EXPECT_FALSE(Report("geo_s").has_carried_girth_ratio());
   ASSERT_EQ(Drape("XL", "geo_xl", "geometric").exit_code, 0);
   EXPECT_EQ(*core::ReadFileToString(*dir_ / "geo_s.obj"),
             *core::ReadFileToString(*dir_ / "geo_xl.obj"));

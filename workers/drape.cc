@@ -80,11 +80,12 @@ absl::StatusOr<DrapeResult> Drape(const DrapeInput& in, const ClothSettings& set
   ASSIGN_OR_RETURN(core::TriangleBvh body, core::TriangleBvh::Build(in.mean_body, in.body_triangles));
   ClothSolver solver(*in.model, in.start, in.edge_rest, in.hinge_rest, in.supports, body,
                      settings);
-  if (settings.friction == 0) {
-    solver.FirmTies(
-        TightTieFactor(settings, solver.CarriedGirthRatio(in.target_body, in.body_triangles)));
-  }
   DrapeResult result;
+  result.carried_girth_ratio = solver.CarriedGirthRatio(in.target_body, in.body_triangles);
+  if (settings.friction == 0) {
+    result.tie_factor = TightTieFactor(settings, result.carried_girth_ratio);
+    solver.FirmTies(result.tie_factor);
+  }
   for (int step = 1; step <= schedule.homotopy_steps; ++step) {
     const double t = static_cast<double>(step) / schedule.homotopy_steps;
     body.Refit((1.0 - t) * in.mean_body + t * in.target_body);

@@ -43,6 +43,11 @@ struct DrapeResult {
   double converged_max_move_mm = 0;  // Largest vertex move over the last relaxation step.
   int steps = 0;
   double seconds = 0;  // Wall time of the simulation.
+  // The size's girth on the target body were the cloth carried with the skin, over its own
+  // (ClothSolver::CarriedGirthRatio; over 1: too small), and how many times firmer the ties and
+  // supports were for it (TightTieFactor; 1 with friction, which replaces the ties).
+  double carried_girth_ratio = 0;
+  double tie_factor = 1;
 };
 
 // Drapes the garment onto input.target_body. Errors: mismatched sizes, non-finite bodies.

@@ -373,11 +373,16 @@ TEST_F(DrapeTest, TiesFirmOnASizeTooSmallAndNotOnOneThatFits) {
   auto firm = Drape(Input(1.0, 0.9));
   auto soft = Drape(Input(1.0, 0.9), never);
   ASSERT_TRUE(firm.ok() && soft.ok());
+  EXPECT_GT(firm->carried_girth_ratio, ClothSettings{}.tight_girth_full);
+  EXPECT_EQ(firm->tie_factor, ClothSettings{}.tight_tie_factor);
+  EXPECT_EQ(soft->tie_factor, 1);
   EXPECT_GT(1000 * (firm->positions - soft->positions).rowwise().norm().maxCoeff(), 0.1);
   // 10% wider than it: the same drape to the bit.
   auto fits = Drape(Input(1.0, 1.1));
   auto fits_never = Drape(Input(1.0, 1.1), never);
   ASSERT_TRUE(fits.ok() && fits_never.ok());
+  EXPECT_LT(fits->carried_girth_ratio, ClothSettings{}.tight_girth_from);
+  EXPECT_EQ(fits->tie_factor, 1);
   EXPECT_EQ(Hash(fits->positions), Hash(fits_never->positions));
 }
 

@@ -185,6 +185,8 @@ absl::StatusOr<GarmentFit> DrapeGarment(const v1::Garment& garment, absl::string
   fit.report.set_converged_max_move_mm(drape.converged_max_move_mm);
   fit.report.set_steps(static_cast<uint32_t>(drape.steps));
   fit.report.set_seconds(drape.seconds);
+  fit.report.set_carried_girth_ratio(drape.carried_girth_ratio);
+  fit.report.set_tie_factor(drape.tie_factor);
   return fit;
 }
 
