@@ -120,8 +120,8 @@ struct ClothSettings {
   // every average body and below most sizes too small, was smoother around held-out women (3
   // of 30 drapes over 2 mm against 6) but the fast fit learnt its drapes worse (2.45 mm and
   // 0.58% visible skin against 2.31 and 0.50%; likely the drape turning too fast across so
-  // narrow a ramp; docs/drape.md, "A narrower ramp, tried"). The ratio is of the body alone,
-  // known before the drape, so the drape stays one smooth function of the body; a stiffness
+  // narrow a ramp; docs/drape.md, "A narrower ramp, tried, not kept"). The ratio is of the
+  // body alone, known before the drape, so the drape stays one smooth function of it; a stiffness
   // that followed the cloth's own pressure (the contact's lagged normal force) fed back on
   // itself, and 5 of the 12 garments jumped by 4 to 17 mm at the average bodies.
   double tight_tie_factor = 100;
