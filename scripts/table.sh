@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# Issue 21's accuracy table in one run: all twelve garments in size M, and S and XL of
+# female_casualsuit01 and female_sportsuit01, fitted by the `kernel` model (with its clean-up)
+# against the physics drape of 30 held-out avatars (seed 2) of the `women` and `men` presets,
+# each fitted to the avatar's own mesh, on bases of 30 components, beside the `nearest` and
+# `geometric` baselines.
+#
+# The sampled drapes per garment-size set the cost: every garment-size drapes 61 axis examples,
+# the sampled bodies and its 30 held-out avatars. On 2 cores, 100 sampled drapes take about two
+# hours; the recommended 800 about eight (docs/fit-accuracy.md, "The twelve garments in one
+# run").
+#
+# Usage: scripts/table.sh [--samples N] [--jobs J] [--out DIR]
+# Writes DIR/ (default table-out/): the populations, bases, imported garments, each eval's
+# report.md and report.json, the drape cache, and table.md, which it prints at the end.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+usage() { echo "usage: scripts/table.sh [--samples N] [--jobs J] [--out DIR]" >&2; }
+samples=100
+jobs=2
+out=table-out
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --samples | --jobs | --out)
+      if [ $# -lt 2 ]; then usage; exit 2; fi
+      case "$1" in
+        --samples) samples="$2" ;;
+        --jobs) jobs="$2" ;;
+        --out) out="$2" ;;
+      esac
+      shift 2 ;;
+    *) usage; exit 2 ;;
+  esac
+done
+if ! [[ "$samples" =~ ^[1-9][0-9]*$ ]] || [ "$samples" -gt 4096 ]; then
+  echo "--samples must be a whole number from 1 to 4096 (the kernel model learns from them)," \
+    "got '$samples'" >&2
+  exit 2
+fi
+if ! [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || [ "$jobs" -gt 256 ]; then
+  echo "--jobs must be a whole number from 1 to 256, got '$jobs'" >&2; exit 2
+fi
+
+scripts/setup.sh
+fitbase=build/fitbase
+clothes=data/makehuman/clothes
+mkdir -p "$out"
+start=$(date +%s)
+
+# garment:type, the types of README "Size advice" (they do not change the drape).
+women="female_casualsuit01:knit female_casualsuit02:shirt female_elegantsuit01:jacket
+female_sportsuit01:knit"
+men="male_casualsuit01 male_casualsuit02 male_casualsuit03 male_casualsuit04 male_casualsuit05
+male_casualsuit06 male_elegantsuit01 male_worksuit01"
+
+for preset in women men; do
+  if [ ! -f "$out/$preset/basis.fbb" ]; then
+    echo "== $preset: 300 training avatars (seed 1), a basis of 30 components"
+    "$fitbase" population --preset "$preset" --count 300 --seed 1 --out "$out/$preset/population"
+    "$fitbase" basis build --population "$out/$preset/population" --components 30 \
+      --out "$out/$preset/basis.fbb"
+  fi
+done
+for g in $women; do
+  name=${g%%:*}
+  "$fitbase" garment import --mhclo "$clothes/$name/$name.mhclo" --basis "$out/women/basis.fbb" \
+    --sizes S,M,L,XL --type "${g##*:}" --out "$out/women/$name.fbg" > /dev/null
+done
+for name in $men; do
+  "$fitbase" garment import --mhclo "$clothes/$name/$name.mhclo" --basis "$out/men/basis.fbb" \
+    --sizes S,M,L,XL --out "$out/men/$name.fbg" > /dev/null
+done
+
+# One eval per basis and size; they share one drape cache, so a rerun drapes only what is new.
+run_eval() {  # preset size report-dir garment...
+  local preset=$1 size=$2 dir=$3
+  shift 3
+  local garments=()
+  for name in "$@"; do garments+=("$out/$preset/$name.fbg"); done
+  echo "== $preset, size $size: ${*}"
+  "$fitbase" eval --basis "$out/$preset/basis.fbb" --garment "${garments[@]}" --size "$size" \
+    --holdout 30 --seed 2 --methods kernel,nearest,geometric --samples "$samples" \
+    --fit-body own --jobs "$jobs" --cache "$out/drapes" --out "$out/$dir"
+}
+women_names=$(for g in $women; do echo "${g%%:*}"; done)
+# shellcheck disable=SC2086  # the names are words on purpose
+run_eval women M women-M $women_names
+# shellcheck disable=SC2086
+run_eval men M men-M $men
+run_eval women S women-S female_casualsuit01 female_sportsuit01
+run_eval women XL women-XL female_casualsuit01 female_sportsuit01
+
+# One line per garment-size from the reports: kernel with clean-up, the baselines, the ratios.
+{
+  echo "# The twelve garments in one run: $samples sampled drapes per garment-size"
+  echo
+  echo "30 held-out avatars (seed 2) each, fitted to their own mesh; bases of 30 components;" \
+    "$(( ($(date +%s) - start) / 60 )) min on this machine with --jobs $jobs."
+  echo
+  echo "| garment | size | kernel mean ± se / p95 mm | visible skin (worst) | nearest mm |" \
+    "geometric mm | × nearest | × geometric | drapes | min on two workers |"
+  echo "|---|---|---|---|---:|---:|---:|---:|---:|---:|"
+  for dir in women-M men-M women-S women-XL; do
+    awk -v size="${dir#*-}" '
+      /^## / && !/^## All/ { name = $2 }
+      /^Build: / { drapes = $2; for (i = 1; i <= NF; i++) if ($i == "about") two = $(i + 1) }
+      /^\| kernel \| yes \|/ { split($0, f, "|"); mean = f[4] + 0; se = f[5] + 0; p95 = f[6] + 0
+                               skin = f[10]; gsub(/^ +| +$/, "", skin) }
+      /^\| nearest \|/ { split($0, f, "|"); nearest = f[4] + 0 }
+      /^\| geometric \|/ {
+        split($0, f, "|"); geometric = f[4] + 0
+        if (name != "")
+          printf "| %s | %s | %.2f ± %.2f / %.2f | %s | %.2f | %.2f | %.1f | %.1f | %d | %s |\n",
+                 name, size, mean, se, p95, skin, nearest, geometric, nearest / mean,
+                 geometric / mean, drapes, two
+      }
+      /^## All/ { name = "" }
+    ' "$out/$dir/report.md"
+  done
+} > "$out/table.md"
+cat "$out/table.md"
