@@ -6,9 +6,10 @@
 # `geometric` baselines.
 #
 # The sampled drapes per garment-size set the cost: every garment-size drapes 61 axis examples,
-# the sampled bodies and its 30 held-out avatars. On 2 cores, 100 sampled drapes take about two
-# hours; the recommended 800 about eight (docs/fit-accuracy.md, "The twelve garments in one
-# run").
+# the sampled bodies and its 30 held-out avatars, about 1.2 s a drape on two workers over the
+# sixteen. Measured at stop 65 on 2 cores: 100 sampled drapes take an hour, 200 about an hour
+# and a half (the largest of 50, 100, 200, 400 that fits in two hours); the recommended 800
+# would take about five (docs/fit-accuracy.md, "The twelve garments in one run").
 #
 # Usage: scripts/table.sh [--samples N] [--jobs J] [--out DIR]
 # Writes DIR/ (default table-out/): the populations, bases, imported garments, each eval's
@@ -99,7 +100,7 @@ run_eval women XL women-XL female_casualsuit01 female_sportsuit01
     "$(( ($(date +%s) - start) / 60 )) min on this machine with --jobs $jobs."
   echo
   echo "| garment | size | kernel mean ± se / p95 mm | visible skin (worst) | nearest mm |" \
-    "geometric mm | × nearest | × geometric | drapes | min on two workers |"
+    "geometric mm | × nearest | × geometric | build drapes | their min on two workers |"
   echo "|---|---|---|---|---:|---:|---:|---:|---:|---:|"
   for dir in women-M men-M women-S women-XL; do
     awk -v size="${dir#*-}" '
