@@ -12,15 +12,15 @@
 # would take about five (docs/fit-accuracy.md, "The twelve garments in one run").
 #
 # Usage: scripts/table.sh [--samples N] [--jobs J] [--out DIR]
-# Writes DIR/ (default table-out/): the populations, bases, imported garments, each eval's
-# report.md and report.json, the drape cache, and table.md, which it prints at the end.
+# Writes DIR/ (default table-out/ in the checkout): the populations, bases, imported garments,
+# each eval's report.md and report.json, the drape cache, and table.md, which it prints at the
+# end.
 set -euo pipefail
-cd "$(dirname "$0")/.."
 
 usage() { echo "usage: scripts/table.sh [--samples N] [--jobs J] [--out DIR]" >&2; }
 samples=100
 jobs=2
-out=table-out
+out=
 while [ $# -gt 0 ]; do
   case "$1" in
     --samples | --jobs | --out)
@@ -42,6 +42,12 @@ fi
 if ! [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || [ "$jobs" -gt 256 ]; then
   echo "--jobs must be a whole number from 1 to 256, got '$jobs'" >&2; exit 2
 fi
+case "$out" in
+  "") out=table-out ;;
+  /*) ;;
+  *) out="$PWD/$out" ;;  # The caller's folder, before the cd below.
+esac
+cd "$(dirname "$0")/.."
 
 scripts/setup.sh
 fitbase=build/fitbase
