@@ -102,8 +102,9 @@ run_eval women XL women-XL female_casualsuit01 female_sportsuit01
 {
   echo "# The twelve garments in one run: $samples sampled drapes per garment-size"
   echo
-  echo "30 held-out avatars (seed 2) each, fitted to their own mesh; bases of 30 components;" \
-    "$(( ($(date +%s) - start) / 60 )) min on this machine with --jobs $jobs."
+  echo "30 held-out avatars (seed 2) each, fitted to their own mesh; bases of 30 components." \
+    "This run took $(( ($(date +%s) - start) / 60 )) min with --jobs $jobs, reusing the drapes" \
+    "already in $out/drapes; the last column is what every build drape took when it was made."
   echo
   echo "| garment | size | kernel mean ± se / p95 mm | visible skin (worst) | nearest mm |" \
     "geometric mm | × nearest | × geometric | build drapes | their min on two workers |"
