@@ -69,6 +69,8 @@ for preset in women men; do
       --out "$out/$preset/basis.fbb"
   fi
 done
+# Imports are made again on every run, unlike the bases: an import's id carries the
+# simulator's version (it fits the template with the drape's solver), so a kept one goes stale.
 for g in $women; do
   name=${g%%:*}
   "$fitbase" garment import --mhclo "$clothes/$name/$name.mhclo" --basis "$out/women/basis.fbb" \
