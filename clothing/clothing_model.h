@@ -98,11 +98,12 @@ struct KernelBuildOptions {
   // The kernel shapes the leave-one-out error chooses from (at least one), with the relevance
   // search; with fewer bodies than it needs, the first only. A drape kinks where a contact
   // starts or ends between two bodies, which a Matern 3/2 kernel follows and a Gaussian does
-  // not. At 400 sampled drapes (437 to
-  // 449 bodies) it chose Matern 3/2 on all 14 garment-sizes measured, and the held-out mean
-  // fell on 11 of them (women's four in M 3.55 to 3.44 mm, men's six 3.67 to 3.51). At 100
-  // (about 8 bodies per component, one length scale for all) it chose Matern on 8 of 10
-  // garments, and the held-out mean rose on 5 of them (men's six 5.10 to 5.21 mm).
+  // not. At 400 sampled drapes (437 to 449 bodies) it chose Matern 3/2 on all 14 garment-sizes
+  // measured, and the held-out mean fell on 11 of them (women's four in M 3.55 to 3.44 mm,
+  // men's six 3.67 to 3.51). At 100 (about 8 bodies per component) with one length scale for
+  // all it chose Matern on 8 of 10 garments, and the held-out mean rose on 5 of them (men's six
+  // 5.10 to 5.21 mm); with the relevance search's reaches, shape and reaches together lower it
+  // (kRelevanceBodiesPerComponent).
   std::vector<core::KernelShape> shapes = {core::KernelShape::kGaussian,
                                            core::KernelShape::kMatern32};
   // At most this many shapes searched side by side (>= 1), each on its own thread: a search is
@@ -137,10 +138,16 @@ struct KernelBuildReport {
 
 // The relevance search fits one more scale per component to the training bodies' leave-one-out
 // error, which with few bodies it lowers by fitting their noise: with 61 bodies on 18
-// components it raised female_elegantsuit01's held-out error from 8.5 to 9.3 mm, with 437 it
-// lowered both garments measured (4.15 to 3.92 and 4.44 to 4.29 mm). Below this many training
-// bodies per component the kernel keeps one length scale.
-inline constexpr int kRelevanceBodiesPerComponent = 10;
+// components (3.4 per component) it raised female_elegantsuit01's held-out error from 8.5 to
+// 9.3 mm. With 437 it lowered both garments measured (4.15 to 3.92 and 4.44 to 4.29 mm), and
+// from 5.4 per component it pays on every garment: on the 30-component bases, 30 held-out
+// bodies of seed 2 fitted to their own mesh, the twelve garments in M at 200 sampled drapes
+// (261 bodies, 8.7 per component) 3.88 -> 3.35 mm mean (the women's four) and 4.33 -> 3.32
+// (the men's eight), and the women's four at 100 (5.4 per component) 4.22 -> 3.75, where
+// until stop 66 it took 10 per component (docs/fit-accuracy.md, "The relevance search from
+// five bodies per component"). Below this many training bodies per component the kernel keeps
+// one length scale, and the first shape of KernelBuildOptions::shapes.
+inline constexpr int kRelevanceBodiesPerComponent = 5;
 
 // With at least this many training bodies per component, the linear part of a `kernel` model
 // is fitted to all of them by least squares, not taken from the axis examples' central

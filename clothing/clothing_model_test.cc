@@ -365,13 +365,14 @@ TEST(KernelClothingModelTest, FitsTheLinearPartToEveryTrainingBodyWhenThereAreEn
 TEST(KernelClothingModelTest, KeepsOneLengthScaleWithFewTrainingBodies) {
   const ExampleDesign design = Design();
   KernelBuildReport report;
-  // 9 axis examples and 20 samples: fewer than kRelevanceBodiesPerComponent per component.
-  const ClothingModel kernel = KernelModel(design, &report, 20);
+  // 9 axis examples and 10 samples: fewer than kRelevanceBodiesPerComponent per component.
+  static_assert(9 + 10 < kRelevanceBodiesPerComponent * kComponents);
+  const ClothingModel kernel = KernelModel(design, &report, 10);
   EXPECT_THAT(report.input_scaling, ::testing::AnyOf("sigma", "response"));
   // And the first shape of the options, the Gaussian, whatever the leave-one-out error says.
   EXPECT_EQ(kernel.kernel.shape, core::KernelShape::kGaussian);
   const ClothingModel matern =
-      KernelModel(design, &report, 20, {.shapes = {core::KernelShape::kMatern32}});
+      KernelModel(design, &report, 10, {.shapes = {core::KernelShape::kMatern32}});
   EXPECT_EQ(matern.kernel.shape, core::KernelShape::kMatern32);
   EXPECT_TRUE(ValidateClothingModel(kernel).ok());
 }

@@ -17,9 +17,11 @@ namespace {
 // from the same drapes is other bytes, so it must have another id. Version 2: the kernel
 // method and the clean-up's triangle guards. Version 3: the body under the garment
 // (BodyCorrespondence::body_triangles), which the clean-up's deep pushes ask. Version 4: the
-// kernel's linear part fitted by least squares with enough training bodies. (A kernel searched
-// on fewer than all its bodies adds that count instead of a version.)
-constexpr absl::string_view kAssemblyVersion = "clothing-basis-4";
+// kernel's linear part fitted by least squares with enough training bodies. Version 5: the
+// relevance search from 5 training bodies per component (clothing::kRelevanceBodiesPerComponent)
+// instead of 10. (A kernel searched on fewer than all its bodies adds that count instead of a
+// version.)
+constexpr absl::string_view kAssemblyVersion = "clothing-basis-5";
 
 }  // namespace
 
