@@ -7,9 +7,10 @@
 #
 # The sampled drapes per garment-size set the cost: every garment-size drapes 61 axis examples,
 # the sampled bodies and its 30 held-out avatars, about 1.2 s a drape on two workers over the
-# sixteen. Measured at stop 65 on 2 cores: 100 sampled drapes take an hour, 200 about an hour
-# and a half (the largest of 50, 100, 200, 400 that fits in two hours); the recommended 800
-# would take about five (docs/fit-accuracy.md, "The twelve garments in one run").
+# sixteen. On 2 cores, 100 sampled drapes take an hour and 200 about an hour and a half (the
+# largest of 50, 100, 200, 400 that fits in two hours); by the reports' drape times 400 would
+# take about three hours and the recommended 800 about five (docs/fit-accuracy.md, "The twelve
+# garments in one run" and "The relevance search from five bodies per component").
 #
 # Usage: scripts/table.sh [--samples N] [--jobs J] [--out DIR]
 # Writes DIR/ (default table-out/ in the checkout): the populations, bases, imported garments,
