@@ -8,38 +8,69 @@
 # The sampled drapes per garment-size set the cost: every garment-size drapes 61 axis examples,
 # the sampled bodies and its 30 held-out avatars, about 1.2 s a drape on two workers over the
 # sixteen. On 2 cores, 100 sampled drapes take an hour and 200 about an hour and a half (the
-# largest of 50, 100, 200, 400 that fits in two hours); by the reports' drape times 400 would
-# take about three hours and the recommended 800 about five (docs/fit-accuracy.md, "The twelve
-# garments in one run" and "The relevance search from five bodies per component").
+# largest of 50, 100, 200, 400 that fits in two hours); by the reports' drape times 400 take
+# about three hours, 800 about five and --recommended about six (docs/fit-accuracy.md, "The
+# twelve garments in one run" and "The relevance search from five bodies per component").
 #
-# Usage: scripts/table.sh [--samples N] [--jobs J] [--out DIR]
-# Writes DIR/ (default table-out/ in the checkout): the populations, bases, imported garments,
-# each eval's report.md and report.json, the drape cache, and table.md, which it prints at the
-# end.
+# Usage: scripts/table.sh [--samples N] [--samples-for GARMENT=N]... [--recommended] [--jobs J]
+#                         [--out DIR]
+# --samples-for gives one garment (all its sizes) its own count. --recommended is README's
+# "Recommended for a catalogue": 800, with 1,600 for female_casualsuit02 and
+# female_elegantsuit01, 400 for male_casualsuit01 and 3,200 for male_worksuit01; flags after it
+# override it. Writes DIR/ (default table-out/ in the checkout): the populations, bases, imported
+# garments, each eval's report.md and report.json (one eval per basis, size and count), the
+# drape cache, and table.md, which it prints at the end.
 set -euo pipefail
 
-usage() { echo "usage: scripts/table.sh [--samples N] [--jobs J] [--out DIR]" >&2; }
+usage() {
+  echo "usage: scripts/table.sh [--samples N] [--samples-for GARMENT=N]... [--recommended]" \
+    "[--jobs J] [--out DIR]" >&2
+}
+# garment:type, the types of README "Size advice" (they do not change the drape).
+women="female_casualsuit01:knit female_casualsuit02:shirt female_elegantsuit01:jacket
+female_sportsuit01:knit"
+men="male_casualsuit01 male_casualsuit02 male_casualsuit03 male_casualsuit04 male_casualsuit05
+male_casualsuit06 male_elegantsuit01 male_worksuit01"
+women_names=$(for g in $women; do echo "${g%%:*}"; done)
+all_names=" $(tr -s '[:space:]' ' ' <<< "$women_names $men")"
+
+check_count() {  # what value
+  if ! [[ "$2" =~ ^[1-9][0-9]*$ ]] || [ "$2" -gt 4096 ]; then
+    echo "$1 must be a whole number from 1 to 4096 (the kernel model learns from them)," \
+      "got '$2'" >&2
+    exit 2
+  fi
+}
 samples=100
 jobs=2
 out=
+declare -A samples_for=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --samples | --jobs | --out)
+    --samples | --samples-for | --jobs | --out)
       if [ $# -lt 2 ]; then usage; exit 2; fi
       case "$1" in
-        --samples) samples="$2" ;;
+        --samples) check_count --samples "$2"; samples="$2" ;;
+        --samples-for)
+          name=${2%%=*}
+          if [[ "$2" != *=* || "$all_names" != *" $name "* ]]; then
+            echo "--samples-for takes GARMENT=N with GARMENT one of the twelve, got '$2'" >&2
+            exit 2
+          fi
+          check_count "--samples-for $name" "${2#*=}"
+          samples_for[$name]=${2#*=} ;;
         --jobs) jobs="$2" ;;
         --out) out="$2" ;;
       esac
       shift 2 ;;
+    --recommended)
+      samples=800
+      samples_for=([female_casualsuit02]=1600 [female_elegantsuit01]=1600
+                   [male_casualsuit01]=400 [male_worksuit01]=3200)
+      shift ;;
     *) usage; exit 2 ;;
   esac
 done
-if ! [[ "$samples" =~ ^[1-9][0-9]*$ ]] || [ "$samples" -gt 4096 ]; then
-  echo "--samples must be a whole number from 1 to 4096 (the kernel model learns from them)," \
-    "got '$samples'" >&2
-  exit 2
-fi
 if ! [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || [ "$jobs" -gt 256 ]; then
   echo "--jobs must be a whole number from 1 to 256, got '$jobs'" >&2; exit 2
 fi
@@ -55,12 +86,6 @@ fitbase=build/fitbase
 clothes=data/makehuman/clothes
 mkdir -p "$out"
 start=$(date +%s)
-
-# garment:type, the types of README "Size advice" (they do not change the drape).
-women="female_casualsuit01:knit female_casualsuit02:shirt female_elegantsuit01:jacket
-female_sportsuit01:knit"
-men="male_casualsuit01 male_casualsuit02 male_casualsuit03 male_casualsuit04 male_casualsuit05
-male_casualsuit06 male_elegantsuit01 male_worksuit01"
 
 for preset in women men; do
   if [ ! -f "$out/$preset/basis.fbb" ]; then
@@ -82,38 +107,60 @@ for name in $men; do
     --sizes S,M,L,XL --out "$out/men/$name.fbg" > /dev/null
 done
 
-# One eval per basis and size; they share one drape cache, so a rerun drapes only what is new.
-run_eval() {  # preset size report-dir garment...
-  local preset=$1 size=$2 dir=$3
-  shift 3
-  local garments=()
-  for name in "$@"; do garments+=("$out/$preset/$name.fbg"); done
-  echo "== $preset, size $size: ${*}"
-  "$fitbase" eval --basis "$out/$preset/basis.fbb" --garment "${garments[@]}" --size "$size" \
-    --holdout 30 --seed 2 --methods kernel,nearest,geometric --samples "$samples" \
-    --fit-body own --jobs "$jobs" --cache "$out/drapes" --out "$out/$dir"
+# One eval per basis, size and count; they share one drape cache, so a rerun drapes only what
+# is new. The garments at --samples report to DIR/preset-size, the others to
+# DIR/preset-size-count.
+reports=()
+run_evals() {  # preset size garment...
+  local preset=$1 size=$2
+  shift 2
+  local counts
+  counts=$(for name in "$@"; do echo "${samples_for[$name]:-$samples}"; done | sort -nu)
+  for count in $counts; do
+    local garments=() names=()
+    for name in "$@"; do
+      if [ "${samples_for[$name]:-$samples}" = "$count" ]; then
+        garments+=("$out/$preset/$name.fbg")
+        names+=("$name")
+      fi
+    done
+    local dir=$preset-$size
+    if [ "$count" != "$samples" ]; then dir=$dir-$count; fi
+    echo "== $preset, size $size, $count sampled drapes: ${names[*]}"
+    "$fitbase" eval --basis "$out/$preset/basis.fbb" --garment "${garments[@]}" --size "$size" \
+      --holdout 30 --seed 2 --methods kernel,nearest,geometric --samples "$count" \
+      --fit-body own --jobs "$jobs" --cache "$out/drapes" --out "$out/$dir"
+    reports+=("$size:$count:$dir")
+  done
 }
-women_names=$(for g in $women; do echo "${g%%:*}"; done)
 # shellcheck disable=SC2086  # the names are words on purpose
-run_eval women M women-M $women_names
+run_evals women M $women_names
 # shellcheck disable=SC2086
-run_eval men M men-M $men
-run_eval women S women-S female_casualsuit01 female_sportsuit01
-run_eval women XL women-XL female_casualsuit01 female_sportsuit01
+run_evals men M $men
+run_evals women S female_casualsuit01 female_sportsuit01
+run_evals women XL female_casualsuit01 female_sportsuit01
 
 # One line per garment-size from the reports: kernel with clean-up, the baselines, the ratios.
 {
-  echo "# The twelve garments in one run: $samples sampled drapes per garment-size"
+  others=""
+  for name in $(printf '%s\n' "${!samples_for[@]}" | sort); do
+    if [ "${samples_for[$name]}" != "$samples" ]; then
+      others="$others, ${samples_for[$name]} for $name"
+    fi
+  done
+  echo "# The twelve garments in one run: $samples sampled drapes per garment-size$others"
   echo
   echo "30 held-out avatars (seed 2) each, fitted to their own mesh; bases of 30 components." \
     "This run took $(( ($(date +%s) - start) / 60 )) min with --jobs $jobs, reusing the drapes" \
     "already in $out/drapes; the last column is what every build drape took when it was made."
   echo
-  echo "| garment | size | kernel mean ± se / p95 mm | visible skin (worst) | nearest mm |" \
-    "geometric mm | × nearest | × geometric | build drapes | their min on two workers |"
-  echo "|---|---|---|---|---:|---:|---:|---:|---:|---:|"
-  for dir in women-M men-M women-S women-XL; do
-    awk -v size="${dir#*-}" '
+  echo "| garment | size | sampled drapes | kernel mean ± se / p95 mm | visible skin (worst) |" \
+    "nearest mm | geometric mm | × nearest | × geometric | build drapes |" \
+    "their min on two workers |"
+  echo "|---|---|---:|---|---|---:|---:|---:|---:|---:|---:|"
+  for report in "${reports[@]}"; do
+    IFS=: read -r size count dir <<< "$report"
+    awk -v size="$size" -v count="$count" '
       /^## / && !/^## All/ { name = $2 }
       /^Build: / { drapes = $2; for (i = 1; i <= NF; i++) if ($i == "about") two = $(i + 1) }
       /^\| kernel \| yes \|/ { split($0, f, "|"); mean = f[4] + 0; se = f[5] + 0; p95 = f[6] + 0
@@ -122,8 +169,8 @@ run_eval women XL women-XL female_casualsuit01 female_sportsuit01
       /^\| geometric \|/ {
         split($0, f, "|"); geometric = f[4] + 0
         if (name != "")
-          printf "| %s | %s | %.2f ± %.2f / %.2f | %s | %.2f | %.2f | %.1f | %.1f | %d | %s |\n",
-                 name, size, mean, se, p95, skin, nearest, geometric, nearest / mean,
+          printf "| %s | %s | %d | %.2f ± %.2f / %.2f | %s | %.2f | %.2f | %.1f | %.1f | %d | %s |\n",
+                 name, size, count, mean, se, p95, skin, nearest, geometric, nearest / mean,
                  geometric / mean, drapes, two
       }
       /^## All/ { name = "" }
