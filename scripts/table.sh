@@ -9,17 +9,18 @@
 # the sampled bodies and its 30 held-out avatars, about 1.2 s a drape on two workers over the
 # sixteen. On 2 cores, 100 sampled drapes take an hour and 200 about an hour and a half (the
 # largest of 50, 100, 200, 400 that fits in two hours); by the reports' drape times 400 take
-# about three hours, 800 about five and --recommended about six (docs/fit-accuracy.md, "The
-# twelve garments in one run" and "The relevance search from five bodies per component").
+# about three hours, 800 about five and a half and --recommended about five and a quarter
+# (docs/fit-accuracy.md, "The twelve garments in one run", "The relevance search from five
+# bodies per component" and "The twelve garments at 800 sampled drapes on the current drape").
 #
 # Usage: scripts/table.sh [--samples N] [--samples-for GARMENT=N]... [--recommended] [--jobs J]
 #                         [--out DIR]
 # --samples-for gives one garment (all its sizes) its own count. --recommended is README's
 # "Recommended for a catalogue": 800, with 1,600 for female_casualsuit02 and
-# female_elegantsuit01, 400 for male_casualsuit01 and 3,200 for male_worksuit01; flags after it
-# override it. Writes DIR/ (default table-out/ in the checkout): the populations, bases, imported
-# garments, each eval's report.md and report.json (one eval per basis, size and count), the
-# drape cache, and table.md, which it prints at the end.
+# female_elegantsuit01 and 400 for male_casualsuit01; flags after it override it.
+# Writes DIR/ (default table-out/ in the checkout): the populations, bases, imported garments,
+# each eval's report.md and report.json (one eval per basis, size and count), the drape cache,
+# and table.md, which it prints at the end.
 set -euo pipefail
 
 usage() {
@@ -66,7 +67,7 @@ while [ $# -gt 0 ]; do
     --recommended)
       samples=800
       samples_for=([female_casualsuit02]=1600 [female_elegantsuit01]=1600
-                   [male_casualsuit01]=400 [male_worksuit01]=3200)
+                   [male_casualsuit01]=400)
       shift ;;
     *) usage; exit 2 ;;
   esac
