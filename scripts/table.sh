@@ -35,12 +35,14 @@ male_casualsuit06 male_elegantsuit01 male_worksuit01"
 women_names=$(for g in $women; do echo "${g%%:*}"; done)
 all_names=" $(tr -s '[:space:]' ' ' <<< "$women_names $men")"
 
-check_count() {  # what value
-  if ! [[ "$2" =~ ^[1-9][0-9]*$ ]] || [ "$2" -gt 4096 ]; then
-    echo "$1 must be a whole number from 1 to 4096 (the kernel model learns from them)," \
-      "got '$2'" >&2
+check_whole() {  # what value max [why]
+  if ! [[ "$2" =~ ^[1-9][0-9]*$ ]] || [ "$2" -gt "$3" ]; then
+    echo "$1 must be a whole number from 1 to $3${4:+ ($4)}, got '$2'" >&2
     exit 2
   fi
+}
+check_count() {  # what value
+  check_whole "$1" "$2" 4096 "the kernel model learns from them"
 }
 samples=100
 jobs=2
@@ -72,9 +74,7 @@ while [ $# -gt 0 ]; do
     *) usage; exit 2 ;;
   esac
 done
-if ! [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || [ "$jobs" -gt 256 ]; then
-  echo "--jobs must be a whole number from 1 to 256, got '$jobs'" >&2; exit 2
-fi
+check_whole --jobs "$jobs" 256
 case "$out" in
   "") out=table-out ;;
   /*) ;;
@@ -111,16 +111,17 @@ done
 # One eval per basis, size and count; they share one drape cache, so a rerun drapes only what
 # is new. The garments at --samples report to DIR/preset-size, the others to
 # DIR/preset-size-count.
+count_for() { echo "${samples_for[$1]:-$samples}"; }  # garment
 reports=()
 run_evals() {  # preset size garment...
   local preset=$1 size=$2
   shift 2
   local counts
-  counts=$(for name in "$@"; do echo "${samples_for[$name]:-$samples}"; done | sort -nu)
+  counts=$(for name in "$@"; do count_for "$name"; done | sort -nu)
   for count in $counts; do
     local garments=() names=()
     for name in "$@"; do
-      if [ "${samples_for[$name]:-$samples}" = "$count" ]; then
+      if [ "$(count_for "$name")" = "$count" ]; then
         garments+=("$out/$preset/$name.fbg")
         names+=("$name")
       fi
