@@ -145,13 +145,13 @@ struct ChosenKernel {
 };
 
 // The kernel of one shape with the lowest leave-one-out error over the training bodies
-// (weights: N x M) and their misses (targets: M x C), as BuildKernelClothingModel describes;
-// nullopt if the bodies do not differ under either scaling.
+// (weights: N x M) and their misses (targets: M x C), as BuildKernelClothingModel describes,
+// with a reach per component if `relevance`; nullopt if the bodies do not differ under either
+// scaling.
 std::optional<ChosenKernel> ChooseKernel(core::KernelShape shape, const Eigen::MatrixXd& weights,
                                          const Eigen::MatrixXd& targets,
                                          const Eigen::ArrayXd& sigma_scale,
-                                         const Eigen::ArrayXd& response_scale) {
-  const Eigen::Index n = weights.rows(), m = weights.cols();
+                                         const Eigen::ArrayXd& response_scale, bool relevance) {
   std::optional<ChosenKernel> best;
   for (const auto& [name, scale] :
        {std::pair<const char*, const Eigen::ArrayXd*>{"sigma", &sigma_scale},
@@ -168,7 +168,7 @@ std::optional<ChosenKernel> ChooseKernel(core::KernelShape shape, const Eigen::M
   // components closely and most others loosely or not at all, which one length scale for all
   // cannot say. A scaling with a zero (a component the linear model does not move the garment
   // by) is not searched.
-  if (m >= kRelevanceBodiesPerComponent * n) {
+  if (relevance) {
     absl::StatusOr<core::RelevanceFit> relevance = core::FitKernelRidgeRelevance(
         weights, targets, best->scale.matrix() / best->ridge.length_scale, {.shape = shape});
     if (relevance.ok() && relevance->model.loo_rms < best->ridge.loo_rms) {
@@ -273,15 +273,16 @@ absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& desi
   chosen.searched_bodies = m;
   if (outputs > 0) {
     // The kernel's shape is chosen like its reaches, by the leave-one-out error, and only where
-    // the reaches are (KernelBuildOptions::shapes says why).
-    const bool relevance = m >= kRelevanceBodiesPerComponent * n;
-    const size_t searched = relevance ? options.shapes.size() : 1;
+    // the reaches are (KernelBuildOptions::shapes says why): where the searched bodies number
+    // kRelevanceBodiesPerComponent per component.
     const Eigen::MatrixXd weights = features.bottomRows(n);
     const Eigen::Index search = std::min<Eigen::Index>(m, options.search_bodies);
+    const bool relevance = search >= kRelevanceBodiesPerComponent * n;
+    const size_t searched = relevance ? options.shapes.size() : 1;
     std::vector<std::optional<ChosenKernel>> fitted(searched);
     core::ParallelFor(searched, options.threads, [&](size_t i) {
       fitted[i] = ChooseKernel(options.shapes[i], weights.leftCols(search), targets.topRows(search),
-                               sigma_scale, response_scale);
+                               sigma_scale, response_scale, relevance);
     });
     // In the shapes' order, whichever thread searched them: the same choice for any count.
     std::optional<ChosenKernel> best;

@@ -166,9 +166,9 @@ inline constexpr int kLeastSquaresBodiesPerComponent = 15;
 // Matern 3/2) and, for each, its inputs' scaling, of two: "sigma" (z_k = w_k / sigma_k) and
 // "response" (z_k = w_k |linear term_k| / sqrt(V): the RMS per-vertex move the linear model gives
 // w_k, so the components this garment follows count most); from it, with at least
-// kRelevanceBodiesPerComponent bodies per component, a relevance search (FitKernelRidgeRelevance)
-// gives each component its own scale, "relevance", where that lowers the leave-one-out error.
-// InvalidArgument for mismatched shapes or non-finite values.
+// kRelevanceBodiesPerComponent searched bodies per component, a relevance search
+// (FitKernelRidgeRelevance) gives each component its own scale, "relevance", where that lowers the
+// leave-one-out error. InvalidArgument for mismatched shapes or non-finite values.
 absl::StatusOr<ClothingModel> BuildKernelClothingModel(const ExampleDesign& design,
                                                        const Eigen::MatrixXd& drapes,
                                                        const SampledDrapes& samples,

@@ -375,6 +375,19 @@ TEST(KernelClothingModelTest, KeepsOneLengthScaleWithFewTrainingBodies) {
       KernelModel(design, &report, 10, {.shapes = {core::KernelShape::kMatern32}});
   EXPECT_EQ(matern.kernel.shape, core::KernelShape::kMatern32);
   EXPECT_TRUE(ValidateClothingModel(kernel).ok());
+
+  // Many bodies, but the search limited to fewer than kRelevanceBodiesPerComponent per
+  // component: the count searched decides (one length scale, the first shape of the options),
+  // and the kernel is still fitted to all of them.
+  const ClothingModel limited =
+      KernelModel(design, &report, 240,
+                  {.shapes = {core::KernelShape::kMatern32, core::KernelShape::kGaussian},
+                   .search_bodies = 19});
+  EXPECT_EQ(report.searched_bodies, 19);
+  EXPECT_THAT(report.input_scaling, ::testing::AnyOf("sigma", "response"));
+  EXPECT_EQ(limited.kernel.shape, core::KernelShape::kMatern32);
+  EXPECT_EQ(limited.kernel.center_count(), 249);
+  EXPECT_TRUE(ValidateClothingModel(limited).ok());
 }
 
 TEST(KernelClothingModelTest, FallsBackToTheLinearModelFarFromEveryTrainingBody) {
