@@ -62,6 +62,7 @@ absl::Status Watch(v1::Coordinator::Stub& stub, const BuildFlags& flags,
       progress = std::make_unique<pipeline::ProgressReporter>(absl::StrCat(build_id, " drapes"),
                                                     build.tasks_total(), std::cerr,
                                                     pipeline::StderrIsTerminal());
+      progress->Resume(build.tasks_done());
     }
     progress->Update(build.tasks_done());
   }

@@ -44,7 +44,7 @@ absl::StatusOr<std::vector<v1::DrapeResult>> RunDrapeTasks(
   int64_t done = static_cast<int64_t>(tasks.size() - pending.size());
   ProgressReporter progress(options.label, static_cast<int64_t>(tasks.size()), std::cerr,
                             StderrIsTerminal());
-  progress.Update(done);
+  progress.Resume(done);
   // After the first error the remaining drapes are skipped, not run: the call fails anyway.
   core::ParallelFor(pending.size(), options.jobs, [&](size_t p) {
     if (failed) return;

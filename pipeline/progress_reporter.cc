@@ -35,6 +35,11 @@ ProgressReporter::ProgressReporter(std::string label, int64_t total, std::ostrea
       start_(clock_()),
       last_draw_(start_) {}
 
+void ProgressReporter::Resume(int64_t done) {
+  done_at_start_ = done;
+  Update(done);
+}
+
 void ProgressReporter::Update(int64_t done) {
   done_ = done;
   const auto now = clock_();
@@ -58,10 +63,13 @@ std::string ProgressReporter::Line() const {
   const double elapsed = std::chrono::duration<double>(clock_() - start_).count();
   std::string line = absl::StrFormat("%s %d/%d  elapsed %s", label_, done_, total_,
                                      FormatSeconds(elapsed));
-  if (done_ > 0 && done_ < total_) {
-    const double eta = elapsed / static_cast<double>(done_) * static_cast<double>(total_ - done_);
+  const int64_t done_here = done_ - done_at_start_;
+  if (done_here > 0 && done_ < total_) {
+    const double eta =
+        elapsed / static_cast<double>(done_here) * static_cast<double>(total_ - done_);
     absl::StrAppend(&line, "  ETA ", FormatSeconds(eta));
   }
+  if (done_at_start_ > 0) absl::StrAppend(&line, "  (", done_at_start_, " at start)");
   return line;
 }
 

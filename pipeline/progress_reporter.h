@@ -20,6 +20,10 @@ class ProgressReporter {
   ProgressReporter(std::string label, int64_t total, std::ostream& out, bool is_terminal,
                    Clock clock = std::chrono::steady_clock::now);
 
+  // Records items finished before this reporter started (found in a cache, or done before a
+  // watch joined): they count in done/total but not in the rate the ETA comes from, which
+  // would otherwise promise the rest at the speed of a cache read.
+  void Resume(int64_t done);
   // Records that `done` items of `total` are finished.
   void Update(int64_t done);
   // Prints the final line (always, terminal or not).
@@ -32,6 +36,7 @@ class ProgressReporter {
   std::string label_;
   int64_t total_;
   int64_t done_ = 0;
+  int64_t done_at_start_ = 0;
   std::ostream& out_;
   bool is_terminal_;
   Clock clock_;

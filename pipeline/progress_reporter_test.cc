@@ -40,6 +40,21 @@ TEST(ProgressReporterTest, LineShowsCountElapsedAndEta) {
   EXPECT_EQ(progress.Line(), "avatars 30/40  elapsed 10.0s  ETA 3.3s");
 }
 
+// Items found done at the start (a cache's) are counted but do not speed up the ETA.
+TEST(ProgressReporterTest, EtaFromTheItemsDoneSinceTheStart) {
+  FakeClock clock;
+  std::ostringstream out;
+  ProgressReporter progress("drapes", 100, out, /*is_terminal=*/false, clock.AsClock());
+  progress.Resume(60);
+  EXPECT_EQ(progress.Line(), "drapes 60/100  elapsed 0.0s  (60 at start)");
+  clock.Advance(10s);
+  progress.Update(70);
+  // 10 items in 10 s: the remaining 30 take 30 s, not the 4.3 s of 70 items in 10 s.
+  EXPECT_EQ(progress.Line(), "drapes 70/100  elapsed 10.0s  ETA 30.0s  (60 at start)");
+  progress.Update(100);
+  EXPECT_EQ(progress.Line(), "drapes 100/100  elapsed 10.0s  (60 at start)");
+}
+
 TEST(ProgressReporterTest, NoEtaBeforeTheFirstItemOrAfterTheLast) {
   FakeClock clock;
   std::ostringstream out;
