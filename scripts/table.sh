@@ -9,9 +9,10 @@
 # the sampled bodies and its 30 held-out avatars, about 1.2 s a drape on two workers over the
 # sixteen. On 2 cores, 100 sampled drapes take an hour and 200 about an hour and a half (the
 # largest of 50, 100, 200, 400 that fits in two hours); by the reports' drape times 400 take
-# about three hours, 800 about five and a half and --recommended about five and a quarter
+# about three hours, 800 about five and a half and --recommended about 5 h 20 min
 # (docs/fit-accuracy.md, "The twelve garments in one run", "The relevance search from five
-# bodies per component" and "The twelve garments at 800 sampled drapes on the current drape").
+# bodies per component", "The twelve garments at 800 sampled drapes on the current drape" and
+# "The recommended configuration in one run, and on 30 avatars of another seed").
 #
 # Usage: scripts/table.sh [--samples N] [--samples-for GARMENT=N]... [--recommended]
 #                         [--holdout-seed S] [--jobs J] [--out DIR]
