@@ -24,7 +24,8 @@
 # models, so only their truth drapes are new.
 # Writes DIR/ (default table-out/ in the checkout): the populations, bases, imported garments,
 # each eval's report.md and report.json (one eval per basis, size and count), the drape cache,
-# and table.md, which it prints at the end.
+# and table.md, which it prints at the end. Another held-out seed S names its eval folders and
+# its table with -seedS, so one DIR serves every seed with one set of bases and one cache.
 set -euo pipefail
 
 usage() {
@@ -121,7 +122,9 @@ done
 
 # One eval per basis, size and count; they share one drape cache, so a rerun drapes only what
 # is new. The garments at --samples report to DIR/preset-size, the others to
-# DIR/preset-size-count.
+# DIR/preset-size-count; either with -seedS for a held-out seed other than 2.
+suffix=
+if [ "$holdout_seed" != 2 ]; then suffix=-seed$holdout_seed; fi
 count_for() { echo "${samples_for[$1]:-$samples}"; }  # garment
 reports=()
 run_evals() {  # preset size garment...
@@ -139,6 +142,7 @@ run_evals() {  # preset size garment...
     done
     local dir=$preset-$size
     if [ "$count" != "$samples" ]; then dir=$dir-$count; fi
+    dir=$dir$suffix
     echo "== $preset, size $size, $count sampled drapes: ${names[*]}"
     "$fitbase" eval --basis "$out/$preset/basis.fbb" --garment "${garments[@]}" --size "$size" \
       --holdout 30 --seed "$holdout_seed" --methods kernel,nearest,geometric --samples "$count" \
@@ -190,5 +194,5 @@ run_evals women XL female_casualsuit01 female_sportsuit01
       /^## All/ { name = "" }
     ' "$out/$dir/report.md"
   done
-} > "$out/table.md"
-cat "$out/table.md"
+} > "$out/table$suffix.md"
+cat "$out/table$suffix.md"
