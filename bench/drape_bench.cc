@@ -1,7 +1,7 @@
 // The offline fitter's figures over the shared garments:
 //   fitbase_drape_bench --basis B.fbb [--garments a,b|all] [--sizes S,M,XL] [--jobs 2]
 //                       [--smoothness | --smoothness-only] [--smoothness-at C:S,...]
-//                       [--smoothness-around DIR]
+//                       [--smoothness-around DIR] [--smoothness-size M]
 //                       [--out DIR] [--rows R.csv]
 // Drapes every garment in every size onto ten bodies (women and men: average, heavy, thin,
 // tall, short) and prints, per garment, seconds per drape (each drape single-threaded; --jobs
@@ -16,7 +16,8 @@
 // with each garment's worst over them. --smoothness-around takes it around every avatar of a
 // population folder instead of the average body (each moved by the points, so 0:0 is the
 // avatar's own mesh), with each drape's stretch and whether it is flagged too small, and the
-// median p99 of the flagged and of the others.
+// median p99 of the flagged and of the others. --smoothness-size is the size it drapes (M, or
+// another of --sizes: a loose XL folds where an M lies on the skin).
 // --supports drapes each garment (in --sizes) onto its wearers' mean avatar, their five bench
 // bodies and the extremes of the calibrated population (the tallest, shortest and heaviest
 // --extremes of 500 sampled avatars), and prints where the waistband, collar and leg hems sit
@@ -317,7 +318,7 @@ absl::StatusOr<std::vector<SmoothnessPoint>> ParseSmoothnessPoints(const std::st
 // garment's worst.
 void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
                      const std::vector<Body>& around, const v1::AvatarBasis& basis,
-                     const std::vector<SmoothnessPoint>& points, int jobs,
+                     const std::vector<SmoothnessPoint>& points, const std::string& size, int jobs,
                      const workers::ClothSettings& settings) {
   auto pca = proto::PcaBasisFromProto(basis);
   struct Worst {
@@ -339,10 +340,11 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
         Eigen::Map<const core::Positions>(step.data(), step.size() / 3, 3);
     const std::string where = absl::StrFormat("%d:%+.2f", point.component, point.sigmas);
     std::printf(
-        "\nsmoothness, size M, around %s %+.2f sigma along component %d, d = "
+        "\nsmoothness, size %s, around %s %+.2f sigma along component %d, d = "
         "0.1 sigma along it (mm; body moves %.1f mm mean, %.1f max):\n",
-        around.empty() ? "the average body" : "each avatar", point.sigmas, point.component,
-        1000 * delta.rowwise().norm().mean(), 1000 * delta.rowwise().norm().maxCoeff());
+        size.c_str(), around.empty() ? "the average body" : "each avatar", point.sigmas,
+        point.component, 1000 * delta.rowwise().norm().mean(),
+        1000 * delta.rowwise().norm().maxCoeff());
     std::printf("%-22s %-12s %12s %12s %9s %13s %13s %10s %11s %15s %11s %12s\n", "garment", "body",
                 "2nd_diff_max", "2nd_diff_p99", "over_1mm", "half_d_max", "half_d_p99", "max/half",
                 "steady/kinks", "budget_x2_mean", "girth_ratio", "stretch_p99");
@@ -367,7 +369,7 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
         std::vector<Run> runs = {{b, {}},    {b + delta, {}},       {b - delta, {}},
                                  {b, twice}, {b + 0.5 * delta, {}}, {b - 0.5 * delta, {}}};
         ForEachSideBySide(runs.size(), jobs, [&](size_t i) {
-          runs[i].fit = workers::DrapeGarment(g, "M", runs[i].body, settings, runs[i].schedule);
+          runs[i].fit = workers::DrapeGarment(g, size, runs[i].body, settings, runs[i].schedule);
         });
         if (const auto failed =
                 std::find_if(runs.begin(), runs.end(), [](const Run& r) { return !r.fit.ok(); });
@@ -864,13 +866,15 @@ int Main(int argc, char** argv) {
       ->check(CLI::Range(1, 64));
   app.add_flag("--smoothness", smoothness, "Also measure smoothness and budget doubling");
   app.add_flag("--smoothness-only", smoothness_only, "Only measure smoothness and budget doubling");
-  std::string smoothness_at = "0:0", smoothness_around;
+  std::string smoothness_at = "0:0", smoothness_around, smoothness_size = "M";
   app.add_option("--smoothness-at", smoothness_at,
                  "Where the smoothness is taken: COMPONENT:SIGMAS,... from the average body "
                  "(default: 0:0)");
   app.add_option("--smoothness-around", smoothness_around,
                  "Take the smoothness around every avatar of this population folder, each moved "
                  "by the --smoothness-at points, instead of around the average body");
+  app.add_option("--smoothness-size", smoothness_size,
+                 "The size the smoothness is taken in, one of --sizes (default: M)");
   app.add_flag("--supports", supports,
                "Only measure where supports sit on bodies far from the mean (with --sizes)");
   app.add_option("--extremes", extremes,
@@ -970,6 +974,12 @@ int Main(int argc, char** argv) {
     names = absl::StrSplit(garments, ',');
   }
   const std::vector<std::string> size_list = absl::StrSplit(sizes, ',');
+  if ((smoothness || smoothness_only) &&
+      std::find(size_list.begin(), size_list.end(), smoothness_size) == size_list.end()) {
+    std::cerr << "--smoothness-size " << smoothness_size << " is not one of --sizes " << sizes
+              << "\n";
+    return 2;
+  }
   const std::vector<Body> bodies = TestBodies(*model);
   std::vector<Body> around;
   if (!smoothness_around.empty()) {
@@ -1029,7 +1039,8 @@ int Main(int argc, char** argv) {
   }
   if (!smoothness_only) PrintPopulationTable(imported, bodies, size_list, jobs, rows, settings);
   if (smoothness || smoothness_only) {
-    PrintSmoothness(imported, bodies, around, basis, *smoothness_points, jobs, settings);
+    PrintSmoothness(imported, bodies, around, basis, *smoothness_points, smoothness_size, jobs,
+                    settings);
   }
   return 0;
 }
