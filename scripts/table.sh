@@ -14,9 +14,9 @@
 # bodies per component", "The twelve garments at 800 sampled drapes on the current drape" and
 # "The recommended configuration in one run, and on 30 avatars of another seed").
 #
-# Usage: scripts/table.sh [--samples N] [--samples-for GARMENT=N]... [--recommended]
+# Usage: scripts/table.sh [--samples N] [--samples-for GARMENT[:SIZE]=N]... [--recommended]
 #                         [--holdout-seed S] [--jobs J] [--out DIR]
-# --samples-for gives one garment (all its sizes) its own count. --recommended is README's
+# --samples-for gives one garment (all its sizes, or the one SIZE) its own count. --recommended is README's
 # "Recommended for a catalogue": 800, with 1,600 for female_casualsuit02 and
 # female_elegantsuit01 and 400 for male_casualsuit01; flags after it override it.
 # --holdout-seed draws the 30 held-out avatars of each preset with another seed (default 2, the
@@ -29,7 +29,7 @@
 set -euo pipefail
 
 usage() {
-  echo "usage: scripts/table.sh [--samples N] [--samples-for GARMENT=N]... [--recommended]" \
+  echo "usage: scripts/table.sh [--samples N] [--samples-for GARMENT[:SIZE]=N]... [--recommended]" \
     "[--holdout-seed S] [--jobs J] [--out DIR]" >&2
 }
 # garment:type, the types of README "Size advice" (they do not change the drape).
@@ -61,13 +61,16 @@ while [ $# -gt 0 ]; do
       case "$1" in
         --samples) check_count --samples "$2"; samples="$2" ;;
         --samples-for)
-          name=${2%%=*}
-          if [[ "$2" != *=* || "$all_names" != *" $name "* ]]; then
-            echo "--samples-for takes GARMENT=N with GARMENT one of the twelve, got '$2'" >&2
+          key=${2%%=*}
+          name=${key%%:*}
+          if [[ "$2" != *=* || "$all_names" != *" $name "* ||
+                ( "$key" == *:* && ! "${key#*:}" =~ ^(S|M|XL)$ ) ]]; then
+            echo "--samples-for takes GARMENT=N or GARMENT:SIZE=N with GARMENT one of the" \
+              "twelve and SIZE S, M or XL, got '$2'" >&2
             exit 2
           fi
-          check_count "--samples-for $name" "${2#*=}"
-          samples_for[$name]=${2#*=} ;;
+          check_count "--samples-for $key" "${2#*=}"
+          samples_for[$key]=${2#*=} ;;
         --holdout-seed) holdout_seed="$2" ;;
         --jobs) jobs="$2" ;;
         --out) out="$2" ;;
@@ -125,17 +128,17 @@ done
 # DIR/preset-size-count; either with -seedS for a held-out seed other than 2.
 suffix=
 if [ "$holdout_seed" != 2 ]; then suffix=-seed$holdout_seed; fi
-count_for() { echo "${samples_for[$1]:-$samples}"; }  # garment
+count_for() { echo "${samples_for[$1:$2]:-${samples_for[$1]:-$samples}}"; }  # garment size
 reports=()
 run_evals() {  # preset size garment...
   local preset=$1 size=$2
   shift 2
   local counts
-  counts=$(for name in "$@"; do count_for "$name"; done | sort -nu)
+  counts=$(for name in "$@"; do count_for "$name" "$size"; done | sort -nu)
   for count in $counts; do
     local garments=() names=()
     for name in "$@"; do
-      if [ "$(count_for "$name")" = "$count" ]; then
+      if [ "$(count_for "$name" "$size")" = "$count" ]; then
         garments+=("$out/$preset/$name.fbg")
         names+=("$name")
       fi
