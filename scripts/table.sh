@@ -15,13 +15,15 @@
 # "The recommended configuration in one run, and on 30 avatars of another seed").
 #
 # Usage: scripts/table.sh [--samples N] [--samples-for GARMENT[:SIZE]=N]... [--recommended]
-#                         [--holdout-seed S] [--jobs J] [--out DIR]
+#                         [--holdout-seed S] [--holdout H] [--jobs J] [--out DIR]
 # --samples-for gives one garment (all its sizes, or the one SIZE) its own count. --recommended is README's
 # "Recommended for a catalogue": 800, with 1,600 for female_casualsuit02 and
 # female_elegantsuit01 and 400 for male_casualsuit01; flags after it override it.
 # --holdout-seed draws the 30 held-out avatars of each preset with another seed (default 2, the
 # seed every figure in the docs was tuned on): bodies the project has never seen, with the same
-# models, so only their truth drapes are new.
+# models, so only their truth drapes are new. --holdout takes H held-out avatars per preset in
+# place of 30 (the first 30 are the same): the standard error of a mean falls as 1/sqrt(H),
+# and 30 leave it at 0.1 to 0.26 mm, so a garment near 3 mm can read either side of it.
 # Writes DIR/ (default table-out/ in the checkout): the populations, bases, imported garments,
 # each eval's report.md and report.json (one eval per basis, size and count), the drape cache,
 # and table.md, which it prints at the end. Another held-out seed S names its eval folders and
@@ -30,7 +32,7 @@ set -euo pipefail
 
 usage() {
   echo "usage: scripts/table.sh [--samples N] [--samples-for GARMENT[:SIZE]=N]... [--recommended]" \
-    "[--holdout-seed S] [--jobs J] [--out DIR]" >&2
+    "[--holdout-seed S] [--holdout H] [--jobs J] [--out DIR]" >&2
 }
 # garment:type, the types of README "Size advice" (they do not change the drape).
 women="female_casualsuit01:knit female_casualsuit02:shirt female_elegantsuit01:jacket
@@ -52,11 +54,12 @@ check_count() {  # what value
 samples=100
 jobs=2
 holdout_seed=2
+holdout=30
 out=
 declare -A samples_for=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --samples | --samples-for | --holdout-seed | --jobs | --out)
+    --samples | --samples-for | --holdout-seed | --holdout | --jobs | --out)
       if [ $# -lt 2 ]; then usage; exit 2; fi
       case "$1" in
         --samples) check_count --samples "$2"; samples="$2" ;;
@@ -72,6 +75,7 @@ while [ $# -gt 0 ]; do
           check_count "--samples-for $key" "${2#*=}"
           samples_for[$key]=${2#*=} ;;
         --holdout-seed) holdout_seed="$2" ;;
+        --holdout) holdout="$2" ;;
         --jobs) jobs="$2" ;;
         --out) out="$2" ;;
       esac
@@ -86,6 +90,7 @@ while [ $# -gt 0 ]; do
 done
 check_whole --jobs "$jobs" 256
 check_whole --holdout-seed "$holdout_seed" 4294967295
+check_whole --holdout "$holdout" 1000 "each is one more truth drape per garment-size"
 if [ "$holdout_seed" = 1 ]; then
   echo "--holdout-seed 1 would hold out the training avatars (seed 1); take another" >&2
   exit 2
@@ -125,9 +130,11 @@ done
 
 # One eval per basis, size and count; they share one drape cache, so a rerun drapes only what
 # is new. The garments at --samples report to DIR/preset-size, the others to
-# DIR/preset-size-count; either with -seedS for a held-out seed other than 2.
+# DIR/preset-size-count; either with -seedS for a held-out seed other than 2 and -hH for
+# another count of held-out avatars than 30.
 suffix=
 if [ "$holdout_seed" != 2 ]; then suffix=-seed$holdout_seed; fi
+if [ "$holdout" != 30 ]; then suffix=$suffix-h$holdout; fi
 count_for() { echo "${samples_for[$1:$2]:-${samples_for[$1]:-$samples}}"; }  # garment size
 reports=()
 run_evals() {  # preset size garment...
@@ -148,7 +155,7 @@ run_evals() {  # preset size garment...
     dir=$dir$suffix
     echo "== $preset, size $size, $count sampled drapes: ${names[*]}"
     "$fitbase" eval --basis "$out/$preset/basis.fbb" --garment "${garments[@]}" --size "$size" \
-      --holdout 30 --seed "$holdout_seed" --methods kernel,nearest,geometric --samples "$count" \
+      --holdout "$holdout" --seed "$holdout_seed" --methods kernel,nearest,geometric --samples "$count" \
       --fit-body own --jobs "$jobs" --cache "$out/drapes" --out "$out/$dir"
     reports+=("$size:$count:$dir")
   done
@@ -170,7 +177,7 @@ run_evals women XL female_casualsuit01 female_sportsuit01
   done
   echo "# The twelve garments in one run: $samples sampled drapes per garment-size$others"
   echo
-  echo "30 held-out avatars (seed $holdout_seed) each, fitted to their own mesh;" \
+  echo "$holdout held-out avatars (seed $holdout_seed) each, fitted to their own mesh;" \
     "bases of 30 components." \
     "This run took $(( ($(date +%s) - start) / 60 )) min with --jobs $jobs, reusing the drapes" \
     "already in $out/drapes; the last column is what every build drape took when it was made."
