@@ -28,8 +28,9 @@
 # and 30 leave it at 0.1 to 0.26 mm, so a garment near 3 mm can read either side of it.
 # Writes DIR/ (default table-out/ in the checkout): the populations, bases, imported garments,
 # each eval's report.md and report.json (one eval per basis, size and count), the drape cache,
-# and table.md, which it prints at the end. Another held-out seed S names its eval folders and
-# its table with -seedS, so one DIR serves every seed with one set of bases and one cache.
+# and table.md, which it prints at the end. Another held-out seed S, or another count H, names
+# its eval folders and its table with -seedS or -hH, so one DIR serves them all with one set of
+# bases and one cache.
 set -euo pipefail
 
 usage() {
@@ -159,8 +160,7 @@ run_evals() {  # preset size garment...
     echo "== $preset, size $size, $count sampled drapes: ${names[*]}"
     "$fitbase" eval --basis "$out/$preset/basis.fbb" --garment "${garments[@]}" --size "$size" \
       --holdout "$holdout" --seed "$holdout_seed" --methods kernel,nearest,geometric \
-      --samples "$count" \
-      --fit-body own --jobs "$jobs" --cache "$out/drapes" --out "$out/$dir"
+      --samples "$count" --fit-body own --jobs "$jobs" --cache "$out/drapes" --out "$out/$dir"
     reports+=("$size:$count:$dir")
   done
 }
