@@ -12,8 +12,9 @@
 # about three hours, 800 about five and a half and --recommended about 6 h 30 min
 # (docs/fit-accuracy.md, "The twelve garments in one run", "The relevance search from five
 # bodies per component", "The twelve garments at 800 sampled drapes on the current drape",
-# "The recommended configuration in one run, and on 30 avatars of another seed" and
-# "The XL sizes on 100 held-out women of each seed").
+# "The recommended configuration in one run, and on 30 avatars of another seed", "The XL
+# sizes on 100 held-out women of each seed" and "female_casualsuit01 XL at 3,200 sampled
+# drapes").
 #
 # Usage: scripts/table.sh [--samples N] [--samples-for GARMENT[:SIZE]=N]... [--recommended]
 #                         [--holdout-seed S] [--holdout H] [--jobs J] [--out DIR]
