@@ -2,7 +2,7 @@
 //   fitbase_drape_bench --basis B.fbb [--garments a,b|all] [--sizes S,M,XL] [--jobs 2]
 //                       [--smoothness | --smoothness-only] [--smoothness-at C:S,...]
 //                       [--smoothness-around DIR] [--smoothness-size M]
-//                       [--out DIR] [--rows R.csv]
+//                       [--homotopy-steps P] [--out DIR] [--rows R.csv]
 // Drapes every garment in every size onto ten bodies (women and men: average, heavy, thin,
 // tall, short) and prints, per garment, seconds per drape (each drape single-threaded; --jobs
 // runs drapes side by side), penetration, strain (flagged drapes counted apart) and ease.
@@ -28,6 +28,8 @@
 // tolerance (the solver before the path's iterations were capped), one after the other in one
 // run, with the ratios, how far apart the results are, and whether a repeat of the default
 // drape is bitwise equal.
+// --homotopy-steps takes every drape of every mode along a path of that many steps from the
+// mean avatar (the default's twice for the doubled budget): docs/drape.md, "A shorter path".
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -140,7 +142,8 @@ void WriteRows(const std::string& path, const std::vector<v1::Garment>& imported
 // Every garment in every size on every body, `jobs` drapes side by side.
 void PrintPopulationTable(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
                           const std::vector<std::string>& size_list, int jobs,
-                          const std::string& rows_path, const workers::ClothSettings& settings) {
+                          const std::string& rows_path, const workers::ClothSettings& settings,
+                          const workers::DrapeSchedule& schedule) {
   std::vector<DrapeTask> tasks;
   for (size_t g = 0; g < imported.size(); ++g)
     for (size_t b = 0; b < bodies.size(); ++b)
@@ -153,7 +156,7 @@ void PrintPopulationTable(const std::vector<v1::Garment>& imported, const std::v
   ForEachSideBySide(tasks.size(), jobs, [&](size_t i) {
     const DrapeTask& t = tasks[i];
     auto fit = workers::DrapeGarment(imported[t.garment], size_list[t.size],
-                                     bodies[t.body].positions, settings);
+                                     bodies[t.body].positions, settings, schedule);
     if (fit.ok())
       reports[i] = fit->report;
     else
@@ -319,7 +322,8 @@ absl::StatusOr<std::vector<SmoothnessPoint>> ParseSmoothnessPoints(const std::st
 void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
                      const std::vector<Body>& around, const v1::AvatarBasis& basis,
                      const std::vector<SmoothnessPoint>& points, const std::string& size, int jobs,
-                     const workers::ClothSettings& settings) {
+                     const workers::ClothSettings& settings,
+                     const workers::DrapeSchedule& schedule) {
   auto pca = proto::PcaBasisFromProto(basis);
   struct Worst {
     double p99 = 0, max = 0, budget = 0;
@@ -330,7 +334,7 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
   // The p99 of the drapes flagged too small and of the others, per garment, around `around`.
   std::vector<std::vector<double>> flagged_p99(imported.size()), fitting_p99(imported.size());
   const size_t places = points.size() * std::max<size_t>(1, around.size());
-  workers::DrapeSchedule twice;
+  workers::DrapeSchedule twice = schedule;
   twice.homotopy_steps *= 2;
   twice.relax_steps *= 2;
   for (const SmoothnessPoint& point : points) {
@@ -366,8 +370,9 @@ void PrintSmoothness(const std::vector<v1::Garment>& imported, const std::vector
           workers::DrapeSchedule schedule;
           absl::StatusOr<workers::GarmentFit> fit = absl::UnknownError("not run");
         };
-        std::vector<Run> runs = {{b, {}},    {b + delta, {}},       {b - delta, {}},
-                                 {b, twice}, {b + 0.5 * delta, {}}, {b - 0.5 * delta, {}}};
+        std::vector<Run> runs = {
+            {b, schedule}, {b + delta, schedule},       {b - delta, schedule},
+            {b, twice},    {b + 0.5 * delta, schedule}, {b - 0.5 * delta, schedule}};
         ForEachSideBySide(runs.size(), jobs, [&](size_t i) {
           runs[i].fit = workers::DrapeGarment(g, size, runs[i].body, settings, runs[i].schedule);
         });
@@ -553,7 +558,8 @@ std::vector<Body> ExtremeBodies(const body::BodyModel& model,
 // Where each garment's supports sit on bodies far from the mean, against the mean avatar.
 void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>& imported,
                    const std::vector<Body>& bench_bodies, const std::vector<std::string>& sizes,
-                   int extremes, int jobs, const workers::ClothSettings& settings) {
+                   int extremes, int jobs, const workers::ClothSettings& settings,
+                   const workers::DrapeSchedule& schedule) {
   auto sampler = body::PopulationSampler::Create(model);
   if (!sampler.ok()) {
     std::cerr << sampler.status().message() << "\n";
@@ -598,8 +604,8 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
                                       pipeline::StderrIsTerminal());
   ForEachSideBySide(rows.size(), jobs, [&](size_t i) {
     Row& row = rows[i];
-    row.fit =
-        workers::DrapeGarment(imported[row.garment], row.size, row.body.positions, settings);
+    row.fit = workers::DrapeGarment(imported[row.garment], row.size, row.body.positions, settings,
+                                    schedule);
     const std::array<body::Measurement, 1> leg = {body::Measurement::kInsideLeg};
     auto measured = body::MeasureBody(row.body.positions, triangles, leg);
     if (measured.ok()) row.inside_leg = (*measured)[static_cast<int>(leg[0])];
@@ -793,7 +799,7 @@ void PrintSupports(const body::BodyModel& model, const std::vector<v1::Garment>&
 // The two factorisations, and the capped path against every step solved, on each garment in
 // one run.
 void PrintSpeed(const std::vector<v1::Garment>& imported, const std::vector<Body>& bodies,
-                const workers::ClothSettings& settings) {
+                const workers::ClothSettings& settings, const workers::DrapeSchedule& schedule) {
   std::printf(
       "\nspeed, size M on the wearers' average body, one drape at a time (s): the factorisations "
       "(simplicial against supernodal, both with the path's iterations capped at %d), then the "
@@ -816,7 +822,7 @@ void PrintSpeed(const std::vector<v1::Garment>& imported, const std::vector<Body
     solved.path_newton_iterations = solved.newton_iterations;
     auto timed = [&](const workers::ClothSettings& settings, double* seconds) {
       const auto start = std::chrono::steady_clock::now();
-      auto fit = workers::DrapeGarment(g, "M", body.positions, settings);
+      auto fit = workers::DrapeGarment(g, "M", body.positions, settings, schedule);
       *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return fit;
     };
@@ -858,6 +864,7 @@ int Main(int argc, char** argv) {
   int extremes = 10;
   std::string cuffs;
   workers::ClothSettings settings;
+  workers::DrapeSchedule schedule;
   app.add_option("--basis", basis_path, "Avatar basis (.fbb) with avatar parameters")->required();
   app.add_option("--data", data, "MakeHuman data folder");
   app.add_option("--garments", garments, "Comma-separated garment names, or all");
@@ -883,6 +890,11 @@ int Main(int argc, char** argv) {
   app.add_flag("--speed", speed,
                "Only compare the factorisations' speed, and the capped path against every step "
                "solved");
+  app.add_option("--homotopy-steps", schedule.homotopy_steps,
+                 absl::StrCat("Drape steps moving the body from the mean avatar, in every drape "
+                              "(default: ",
+                              schedule.homotopy_steps, ")"))
+      ->check(CLI::Range(1, 1000));
   app.add_option("--path-iterations", settings.path_newton_iterations,
                  "Newton iterations per step while the body moves (default: ClothSettings's)")
       ->check(CLI::Range(1, 1000));
@@ -1030,17 +1042,19 @@ int Main(int argc, char** argv) {
   }
 
   if (supports) {
-    PrintSupports(*model, imported, bodies, size_list, extremes, jobs, settings);
+    PrintSupports(*model, imported, bodies, size_list, extremes, jobs, settings, schedule);
     return 0;
   }
   if (speed) {
-    PrintSpeed(imported, bodies, settings);
+    PrintSpeed(imported, bodies, settings, schedule);
     return 0;
   }
-  if (!smoothness_only) PrintPopulationTable(imported, bodies, size_list, jobs, rows, settings);
+  if (!smoothness_only) {
+    PrintPopulationTable(imported, bodies, size_list, jobs, rows, settings, schedule);
+  }
   if (smoothness || smoothness_only) {
     PrintSmoothness(imported, bodies, around, basis, *smoothness_points, smoothness_size, jobs,
-                    settings);
+                    settings, schedule);
   }
   return 0;
 }
