@@ -29,7 +29,8 @@
 // run, with the ratios, how far apart the results are, and whether a repeat of the default
 // drape is bitwise equal.
 // --homotopy-steps takes every drape of every mode along a path of that many steps from the
-// mean avatar (the default's twice for the doubled budget): docs/drape.md, "A shorter path".
+// mean avatar (twice as many for the doubled budget): docs/drape.md, "A shorter path, tried,
+// not kept".
 #include <algorithm>
 #include <atomic>
 #include <chrono>
