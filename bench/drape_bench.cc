@@ -902,6 +902,10 @@ int Main(int argc, char** argv) {
   app.add_option("--friction", settings.friction,
                  "Coulomb friction's mu in place of the stiction (0: the stiction, the default)")
       ->check(CLI::Range(0.0, workers::kMaxFriction));
+  app.add_option("--cuff-friction", settings.cuff_friction,
+                 "Coulomb friction's mu on declared cuffs on top of their ties (0: the ties alone, "
+                 "the default)")
+      ->check(CLI::Range(0.0, workers::kMaxFriction));
   app.add_option("--skin-tie", settings.skin_tie,
                  "Stiction, N/m per kg of cloth (default: ClothSettings's)")
       ->check(CLI::Range(0.0, workers::kMaxSkinTie));
@@ -940,9 +944,12 @@ int Main(int argc, char** argv) {
   app.add_option("--rows", rows, "CSV file for one row per drape of the population table");
   CLI11_PARSE(app, argc, argv);
   // CLI11's range lets NaN through.
-  if (absl::Status friction = workers::CheckFriction(settings.friction); !friction.ok()) {
-    std::cerr << "--" << friction.message() << "\n";
-    return 2;
+  for (const auto& [mu, name] : {std::pair{settings.friction, "--friction"},
+                                 std::pair{settings.cuff_friction, "--cuff-friction"}}) {
+    if (absl::Status friction = workers::CheckFriction(mu, name); !friction.ok()) {
+      std::cerr << friction.message() << "\n";
+      return 2;
+    }
   }
   if (absl::Status tie = workers::CheckSkinTie(settings.skin_tie, "--skin-tie"); !tie.ok()) {
     std::cerr << tie.message() << "\n";

@@ -31,10 +31,11 @@ void AddDrapeScheduleOptions(CLI::App* command, workers::DrapeSchedule& schedule
 struct ClothFlags {
   bool no_supports = false;
   double friction = 0;
+  double cuff_friction = 0;
   double skin_tie = workers::ClothSettings{}.skin_tie;
 };
 
-// --no-supports, --friction and --skin-tie.
+// --no-supports, --friction, --cuff-friction and --skin-tie.
 void AddClothOptions(CLI::App* command, ClothFlags& flags);
 
 // The physics drape's settings from those flags; InvalidArgument naming the flag for a value

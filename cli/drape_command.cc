@@ -34,11 +34,12 @@ absl::Status RunDrape(const DrapeFlags& flags) {
         absl::StrCat("--method is '", flags.method, "'; expected drape or geometric"));
   }
   ASSIGN_OR_RETURN(const workers::ClothSettings settings, ClothSettingsFromFlags(flags.cloth));
-  if ((flags.cloth.no_supports || flags.cloth.friction > 0 ||
+  if ((flags.cloth.no_supports || flags.cloth.friction > 0 || flags.cloth.cuff_friction > 0 ||
        flags.cloth.skin_tie != workers::ClothSettings{}.skin_tie) &&
       flags.method != "drape") {
     return absl::InvalidArgumentError(
-        "--no-supports, --friction and --skin-tie are settings of the physics drape only");
+        "--no-supports, --friction, --cuff-friction and --skin-tie are settings of the physics "
+        "drape only");
   }
   v1::Garment garment;
   RETURN_IF_ERROR(proto::ReadMessageFile(flags.garment, &garment));
@@ -123,6 +124,11 @@ void AddClothOptions(CLI::App* command, ClothFlags& flags) {
                    "ties)")
       ->check(CLI::Range(0.0, workers::kMaxFriction));
   command
+      ->add_option("--cuff-friction", flags.cuff_friction,
+                   "Coulomb friction's mu on the garment's declared cuffs on top of their ties "
+                   "(default: 0, the ties alone)")
+      ->check(CLI::Range(0.0, workers::kMaxFriction));
+  command
       ->add_option(
           "--skin-tie", flags.skin_tie,
           absl::StrCat("The ties' stiffness, N/m per kg of cloth (default: ", flags.skin_tie, ")"))
@@ -130,9 +136,8 @@ void AddClothOptions(CLI::App* command, ClothFlags& flags) {
 }
 
 absl::StatusOr<workers::ClothSettings> ClothSettingsFromFlags(const ClothFlags& flags) {
-  if (absl::Status status = workers::CheckFriction(flags.friction); !status.ok()) {
-    return absl::InvalidArgumentError(absl::StrCat("--", status.message()));
-  }
+  RETURN_IF_ERROR(workers::CheckFriction(flags.friction, "--friction"));
+  RETURN_IF_ERROR(workers::CheckFriction(flags.cuff_friction, "--cuff-friction"));
   RETURN_IF_ERROR(workers::CheckSkinTie(flags.skin_tie, "--skin-tie"));
   workers::ClothSettings settings;
   if (flags.friction > 0 && flags.skin_tie != settings.skin_tie) {
@@ -141,6 +146,7 @@ absl::StatusOr<workers::ClothSettings> ClothSettingsFromFlags(const ClothFlags& 
   }
   if (flags.no_supports) settings = workers::WithoutSupports(settings);
   settings.friction = flags.friction;
+  settings.cuff_friction = flags.cuff_friction;
   settings.skin_tie = flags.skin_tie;
   return settings;
 }

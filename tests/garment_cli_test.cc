@@ -130,8 +130,8 @@ TEST_F(GarmentCliTest, TurningTheSupportsOffChangesTheDrapeAndIsTheDrapesOnly) {
   const Result bad = RunFitbase(geometric);
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_THAT(bad.err,
-              HasSubstr("--no-supports, --friction and --skin-tie are settings of the physics "
-                        "drape only"));
+              HasSubstr("--no-supports, --friction, --cuff-friction and --skin-tie are settings "
+                        "of the physics drape only"));
   EXPECT_FALSE(fs::exists(*dir_ / "geo.obj"));
 }
 
@@ -144,11 +144,13 @@ TEST_F(GarmentCliTest, FrictionInPlaceOfTheTiesChangesTheDrape) {
   EXPECT_THAT(r.out, HasSubstr("waistband"));
   EXPECT_NE(*core::ReadFileToString(*dir_ / "friction.obj"),
             *core::ReadFileToString(*dir_ / "tied.obj"));
-  for (const char* mu : {"-0.1", "nan", "11"}) {
-    const Result bad = RunFitbase({"drape", "--garment", garment, "--avatar", Avatar().string(),
-                                   "--friction", mu, "--out", (*dir_ / "bad.obj").string()});
-    EXPECT_NE(bad.exit_code, 0) << mu;
-    EXPECT_THAT(bad.err, HasSubstr("--friction")) << mu;
+  for (const char* flag : {"--friction", "--cuff-friction"}) {
+    for (const char* mu : {"-0.1", "nan", "11"}) {
+      const Result bad = RunFitbase({"drape", "--garment", garment, "--avatar", Avatar().string(),
+                                     flag, mu, "--out", (*dir_ / "bad.obj").string()});
+      EXPECT_NE(bad.exit_code, 0) << flag << " " << mu;
+      EXPECT_THAT(bad.err, HasSubstr(flag)) << mu;
+    }
   }
   EXPECT_FALSE(fs::exists(*dir_ / "bad.obj"));
 }

@@ -59,10 +59,11 @@ struct Supports {
   // Ascending indices into ClothModel::openings: elastic cuffs round the wrists or ankles
   // (FindCuffs), whose boundary edges carry a waistband's elastic. Only a garment declared with
   // them has any. Not anchored: held where they sit on the limb, as every vertex is, by the tie
-  // to the skin point they started over. Anchored as a collar is (ClothSettings::
-  // anchor_stiffness; tried with a stiffer elastic than now), the cuffs of a size too short for
-  // a tall body pulled its waistband 2.7 cm down the rise (2.0 allowed), on seven of the 12
-  // garments; held by the ties alone, 1.8 (1.7 with this elastic, as without cuffs).
+  // to the skin point they started over, and by friction with ClothSettings::cuff_friction.
+  // Anchored as a collar is (ClothSettings::anchor_stiffness; tried with a stiffer elastic than
+  // now), the cuffs of a size too short for a tall body pulled its waistband 2.7 cm down the
+  // rise (2.0 allowed), on seven of the 12 garments; held by the ties alone, 1.8 (1.7 with this
+  // elastic, as without cuffs).
   std::vector<int32_t> cuffs;
 
   // Whether `opening` (of the garment these are the supports of) is a waistband.

@@ -73,13 +73,13 @@ double RiseOf(const core::Positions& body) {
 
 }  // namespace
 
-absl::Status CheckFriction(double mu) {
+absl::Status CheckFriction(double mu, absl::string_view name) {
   if (!std::isfinite(mu) || mu < 0) {
     return absl::InvalidArgumentError(
-        absl::StrCat("friction = ", mu, " must be finite and not negative"));
+        absl::StrCat(name, " = ", mu, " must be finite and not negative"));
   }
   if (mu > kMaxFriction) {
-    return absl::InvalidArgumentError(absl::StrCat("friction = ", mu, " is over ", kMaxFriction));
+    return absl::InvalidArgumentError(absl::StrCat(name, " = ", mu, " is over ", kMaxFriction));
   }
   return absl::OkStatus();
 }
@@ -333,6 +333,16 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
     ties_.push_back({static_cast<int32_t>(v), {hit.triangle, hit.barycentric},
                      start.row(v).transpose() - hit.point});
   }
+  tie_mu_.assign(ties_.size(), settings.friction);
+  if (settings.cuff_friction > 0) {
+    for (int32_t cuff : supports.cuffs) {
+      for (int32_t v : model.openings[cuff].vertices) {
+        if (tie_of[v] < 0) continue;
+        tie_mu_[tie_of[v]] = std::max(settings.friction, settings.cuff_friction);
+      }
+    }
+  }
+  friction_ = std::any_of(tie_mu_.begin(), tie_mu_.end(), [](double mu) { return mu > 0; });
   elastic_edge_.assign(model.edges.size(), false);
   if (settings.waistband_stiffness > 0) {
     for (int32_t e : supports.waistband_edges) elastic_edge_[e] = true;
@@ -395,7 +405,7 @@ ClothSolver::ClothSolver(const ClothModel& model, const core::Positions& start,
   garment_bvh_.emplace(*core::TriangleBvh::Build(positions_, model_.triangles));
   pattern_ = std::make_unique<HessianPattern>(model_, &cholesky_);
   last_body_ = body.positions();
-  if (settings_.friction > 0) SlipTies(body);
+  if (friction_) SlipTies(body);
 }
 
 ClothSolver::~ClothSolver() = default;
@@ -420,14 +430,13 @@ double ClothSolver::Step(const core::TriangleBvh& body) {
   floor_ = body.positions().col(1).minCoeff();
   clearances_ = Eigen::VectorXd::Constant(positions_.rows(),
                                           -std::numeric_limits<double>::infinity());
-  const int iterations =
-      body_moved && settings_.friction == 0
-          ? std::min(settings_.path_newton_iterations, settings_.newton_iterations)
-          : settings_.newton_iterations;
+  const int iterations = body_moved && !friction_ ? std::min(settings_.path_newton_iterations,
+                                                             settings_.newton_iterations)
+                                                  : settings_.newton_iterations;
   for (int i = 0; i < iterations; ++i) {
     if (!(NewtonIteration(body) > settings_.newton_tolerance)) break;
   }
-  if (settings_.friction > 0) SlipTies(body);
+  if (friction_) SlipTies(body);
   return (positions_ - step_start_).rowwise().norm().maxCoeff();
 }
 
@@ -435,6 +444,7 @@ void ClothSolver::SlipTies(const core::TriangleBvh& body) {
   // At construction there is no step yet, and the ties are where the vertices are.
   if (!tie_normal_forces_.empty()) {
     for (size_t i = 0; i < ties_.size(); ++i) {
+      if (tie_mu_[i] == 0) continue;
       SkinTie& tie = ties_[i];
       const Eigen::Vector3d& normal = tie_holds_[i].normal;
       const Eigen::Vector3d slip = (Eigen::Matrix3d::Identity() - normal * normal.transpose()) *
@@ -534,22 +544,32 @@ void ClothSolver::Evaluate(const core::Positions& x, const core::TriangleBvh& bo
     block(1, 1) = stiffness;
     pattern_->AddVertex(a.vertex, block, out->hessian);
   }
-  const bool friction = settings_.friction > 0;
+  // The stiction holds every vertex unless friction replaces it everywhere; a cuff's friction
+  // adds to it, so a cuff off the skin is still held as the rest of the cloth is.
+  const bool stiction = settings_.friction == 0;
   for (size_t i = 0; i < ties_.size(); ++i) {
     const SkinTie& tie = ties_[i];
-    if (friction && tie_normal_forces_[i] == 0) continue;
+    const bool friction = tie_mu_[i] > 0 && tie_normal_forces_[i] > 0;
+    if (!stiction && !friction) continue;
     const Eigen::Vector3d& normal = tie_holds_[i].normal;
-    const Eigen::Matrix3d tangential =
-        Eigen::Matrix3d::Identity() - normal * normal.transpose();
-    // Friction's hold reaches mu N at kStaticSlip; the stiction is a spring without limit.
-    const double k = friction ? settings_.friction * tie_normal_forces_[i] / kStaticSlip
-                              : settings_.skin_tie * tie_factor_ * masses_(tie.vertex);
-    const double yield = kStaticSlip;
+    const Eigen::Matrix3d tangential = Eigen::Matrix3d::Identity() - normal * normal.transpose();
     const Eigen::Vector3d slip =
         tangential * (x.row(tie.vertex).transpose() - tie_holds_[i].target);
-    // Up to the yield slip the hold is a spring, beyond it a constant force against the slip.
     const double s = slip.norm();
-    if (!friction || s <= yield) {
+    if (stiction) {
+      const double k = settings_.skin_tie * tie_factor_ * masses_(tie.vertex);
+      out->energy += 0.5 * k * s * s;
+      if (derivatives) {
+        out->gradient.segment<3>(3 * tie.vertex) += k * slip;
+        pattern_->AddVertex(tie.vertex, k * tangential, out->hessian);
+      }
+    }
+    if (!friction) continue;
+    // Friction's hold reaches mu N at kStaticSlip: up to it a spring, beyond it a constant
+    // force against the slip.
+    const double k = tie_mu_[i] * tie_normal_forces_[i] / kStaticSlip;
+    const double yield = kStaticSlip;
+    if (s <= yield) {
       out->energy += 0.5 * k * s * s;
       if (!derivatives) continue;
       out->gradient.segment<3>(3 * tie.vertex) += k * slip;

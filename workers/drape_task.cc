@@ -9,7 +9,7 @@
 namespace fitbase::workers {
 
 std::string SimulatorDescription(const ClothSettings& s, const DrapeSchedule& schedule) {
-  return absl::StrFormat(
+  std::string description = absl::StrFormat(
       "%s step=%.17g newton=%d tolerance=%.17g path_newton=%d gravity=%.17g density=%.17g "
       "stretch=%.17g compression=%.17g area_floor=%.17g bending=%.17g anchor=%.17g tie=%.17g "
       "friction=%.17g grip=%.17g band_stiffness=%.17g band_anchor=%.17g band_on_rise=%d "
@@ -21,6 +21,11 @@ std::string SimulatorDescription(const ClothSettings& s, const DrapeSchedule& sc
       s.waistband_on_rise ? 1 : 0, s.contact_stiffness, s.collision_offset, s.collision_search,
       s.factorization == Factorization::kSimplicialLdlt ? "simplicial" : "supernodal",
       schedule.homotopy_steps, schedule.relax_steps);
+  // Only where set, so the keys of drapes made before it stay good: without it they are the same.
+  if (s.cuff_friction > 0) {
+    absl::StrAppendFormat(&description, " cuff_friction=%.17g", s.cuff_friction);
+  }
+  return description;
 }
 
 DrapeTask MakeDrapeTask(const v1::Garment& garment, absl::string_view size,

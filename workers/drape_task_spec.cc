@@ -63,6 +63,7 @@ v1::DrapeSettings DrapeSettingsToProto(const ClothSettings& s, const DrapeSchedu
   proto.set_anchor_stiffness(s.anchor_stiffness);
   proto.set_skin_tie(s.skin_tie);
   proto.set_friction(s.friction);
+  proto.set_cuff_friction(s.cuff_friction);
   proto.set_waistband_grip(s.waistband_grip);
   proto.set_waistband_stiffness(s.waistband_stiffness);
   proto.set_waistband_anchor_stiffness(s.waistband_anchor_stiffness);
@@ -96,7 +97,10 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
   if (absl::Status tie = CheckSkinTie(p.skin_tie(), "skin_tie"); !tie.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("drape setting ", tie.message()));
   }
-  if (absl::Status friction = CheckFriction(p.friction()); !friction.ok()) {
+  if (absl::Status friction = CheckFriction(p.friction(), "friction"); !friction.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("drape setting ", friction.message()));
+  }
+  if (absl::Status friction = CheckFriction(p.cuff_friction(), "cuff_friction"); !friction.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("drape setting ", friction.message()));
   }
   RETURN_IF_ERROR(CheckShare("waistband_grip", p.waistband_grip()));
@@ -126,6 +130,7 @@ absl::Status DrapeSettingsFromProto(const v1::DrapeSettings& p, ClothSettings* s
                             .anchor_stiffness = p.anchor_stiffness(),
                             .skin_tie = p.skin_tie(),
                             .friction = p.friction(),
+                            .cuff_friction = p.cuff_friction(),
                             .waistband_grip = p.waistband_grip(),
                             .waistband_stiffness = p.waistband_stiffness(),
                             .waistband_anchor_stiffness = p.waistband_anchor_stiffness(),

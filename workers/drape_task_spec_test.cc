@@ -35,6 +35,15 @@ TEST_F(DrapeTaskSpecTest, RoundTripKeepsTheKeyAndEveryInput) {
   ClothSettings on_rise = settings;
   on_rise.waistband_on_rise = true;
   EXPECT_NE(task.key, MakeDrapeTask(garment_, "XL", body_, on_rise, {7, 9}).key);
+  ClothSettings cuff_friction = settings;
+  cuff_friction.cuff_friction = 0.5;
+  const DrapeTask with_cuff_friction = MakeDrapeTask(garment_, "XL", body_, cuff_friction, {7, 9});
+  EXPECT_NE(task.key, with_cuff_friction.key);
+  absl::StatusOr<DrapeTask> parsed_cuff_friction =
+      DrapeTaskFromSpec(DrapeTaskToSpec(with_cuff_friction));
+  ASSERT_TRUE(parsed_cuff_friction.ok()) << parsed_cuff_friction.status();
+  EXPECT_EQ(parsed_cuff_friction->settings.cuff_friction, 0.5);
+  EXPECT_EQ(parsed_cuff_friction->key, with_cuff_friction.key);
   const v1::DrapeTaskSpec spec = DrapeTaskToSpec(task);
   absl::StatusOr<DrapeTask> parsed = DrapeTaskFromSpec(spec);
   ASSERT_TRUE(parsed.ok()) << parsed.status();
@@ -102,6 +111,11 @@ TEST_F(DrapeTaskSpecTest, RefusesBadBodiesAndSettingsNamingTheProblem) {
   spec.mutable_settings()->set_friction(1e6);
   EXPECT_THAT(DrapeTaskFromSpec(spec),
               core::StatusIs(absl::StatusCode::kInvalidArgument, "friction = 1e+06 is over 10"));
+  spec = good;
+  spec.mutable_settings()->set_cuff_friction(-0.5);
+  EXPECT_THAT(DrapeTaskFromSpec(spec),
+              core::StatusIs(absl::StatusCode::kInvalidArgument,
+                             "cuff_friction = -0.5 must be finite and not negative"));
   spec = good;
   spec.mutable_settings()->set_skin_tie(std::numeric_limits<double>::infinity());
   EXPECT_THAT(DrapeTaskFromSpec(spec),

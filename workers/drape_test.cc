@@ -194,6 +194,43 @@ TEST_F(LongerBodyTest, FrictionGivesTheSameDrapeOnTwiceTheSchedule) {
   EXPECT_LT(moved, 0.0005);
 }
 
+// A cuff pressed onto the body by its elastic grips by friction, where the ties hold every
+// vertex only as weakly as cloth clings: on the longer body the skin under the hem moves
+// down, and the cuff's friction carries the hem further with it than the ties do (0.5 mm: the
+// skirt's cloth, held at the waist by the band, takes the pull and the cuff slips).
+TEST_F(LongerBodyTest, ACuffsFrictionHoldsItToTheSkinHarderThanTheTies) {
+  int32_t hem = -1;
+  for (size_t o = 0; o < model_.openings.size(); ++o) {
+    if (!model_.openings[o].highest_of_piece) hem = static_cast<int32_t>(o);
+  }
+  ASSERT_GE(hem, 0);
+  DrapeInput cuffed = Longer();
+  cuffed.supports.cuffs = {hem};
+  auto hem_height = [&](const DrapeResult& r) {
+    double sum = 0;
+    for (int32_t v : model_.openings[hem].vertices) sum += r.positions(v, 1);
+    return sum / static_cast<double>(model_.openings[hem].vertices.size());
+  };
+  ClothSettings gripping;
+  gripping.cuff_friction = 1;
+  const DrapeSchedule twice{.homotopy_steps = 2 * DrapeSchedule{}.homotopy_steps,
+                            .relax_steps = 2 * DrapeSchedule{}.relax_steps};
+  auto tied = Drape(cuffed);
+  auto held = Drape(cuffed, gripping);
+  auto again = Drape(cuffed, gripping);
+  auto doubled = Drape(cuffed, gripping, twice);
+  ASSERT_TRUE(tied.ok() && held.ok() && again.ok() && doubled.ok());
+  std::printf("hem height, mm: cuff friction %.2f, ties %.2f; band %.2f and %.2f\n",
+              1000 * hem_height(*held), 1000 * hem_height(*tied), 1000 * BandHeight(*held),
+              1000 * BandHeight(*tied));
+  EXPECT_LT(hem_height(*held), hem_height(*tied) - 0.00025);
+  EXPECT_EQ(held->metrics.penetration_below_0mm, 0.0);
+  EXPECT_EQ(Hash(held->positions), Hash(again->positions));
+  const double moved = (held->positions - doubled->positions).rowwise().norm().mean();
+  std::printf("twice the schedule moves the drape by %.3f mm mean\n", 1000 * moved);
+  EXPECT_LT(moved, 0.0005);
+}
+
 TEST_F(LongerBodyTest, TheSupportsHoldTheWaistbandAgainstUnlimitedStiction) {
   const ClothSettings supports;
   ClothSettings soft = supports;
