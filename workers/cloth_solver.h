@@ -274,7 +274,8 @@ class ClothSolver {
 
   // One step with the body as `body` now is (the caller refits it between steps): at most
   // ClothSettings::path_newton_iterations Newton iterations when the body moved since the
-  // last step (or since construction), else up to newton_iterations. Returns the largest
+  // last step (or since construction), else up to newton_iterations; up to newton_iterations
+  // always with friction on any tie, whose memory needs each step solved. Returns the largest
   // vertex move of the step, meters.
   double Step(const core::TriangleBvh& body);
 
@@ -302,7 +303,8 @@ class ClothSolver {
   double CarriedGirthRatio(const core::Positions& body, const core::Triangles& triangles) const;
 
   // Multiplies the stiffness of the ties (ClothSettings::skin_tie) and of the supports'
-  // anchors by `factor` from the next step on. Without friction only.
+  // anchors by `factor` from the next step on. Without ClothSettings::friction only (a cuff's
+  // friction is not firmed).
   void FirmTies(double factor) { tie_factor_ = factor; }
 
   ~ClothSolver();

@@ -28,7 +28,7 @@ class DrapeTest : public ::testing::Test {
     ASSERT_TRUE(model.ok());
     model_ = *std::move(model);
     for (size_t o = 0; o < model_.openings.size(); ++o) {
-      if (model_.openings[o].highest_of_piece) top_index_ = static_cast<int32_t>(o);
+      (model_.openings[o].highest_of_piece ? top_index_ : hem_index_) = static_cast<int32_t>(o);
     }
   }
 
@@ -68,7 +68,8 @@ class DrapeTest : public ::testing::Test {
   core::Mesh mean_;
   core::Mesh tube_;
   ClothModel model_;
-  int32_t top_index_ = 0;  // The tube's top ring, in model_.openings.
+  int32_t top_index_ = 0;   // The tube's top ring, in model_.openings.
+  int32_t hem_index_ = -1;  // Its bottom ring, the hem.
 };
 
 TEST_F(DrapeTest, RepeatedRunIsBitwiseIdentical) {
@@ -111,10 +112,7 @@ TEST_F(DrapeTest, ADeclaredCuffGathersTheHemOntoTheBody) {
   // The skirt's hem (y = -0.15, radius 0.145) hangs 6 mm off the hips. Declared a cuff, it
   // carries a waistband's elastic, and is drawn onto them, to the contact offset and no
   // further.
-  int32_t hem = -1;
-  for (size_t o = 0; o < model_.openings.size(); ++o) {
-    if (!model_.openings[o].highest_of_piece) hem = static_cast<int32_t>(o);
-  }
+  const int32_t hem = hem_index_;
   ASSERT_GE(hem, 0);
   auto body = core::TriangleBvh::Build(mean_.positions, core::Triangulate(mean_.faces));
   ASSERT_TRUE(body.ok());
@@ -199,10 +197,7 @@ TEST_F(LongerBodyTest, FrictionGivesTheSameDrapeOnTwiceTheSchedule) {
 // down, and the cuff's friction carries the hem further with it than the ties do (0.5 mm: the
 // skirt's cloth, held at the waist by the band, takes the pull and the cuff slips).
 TEST_F(LongerBodyTest, ACuffsFrictionHoldsItToTheSkinHarderThanTheTies) {
-  int32_t hem = -1;
-  for (size_t o = 0; o < model_.openings.size(); ++o) {
-    if (!model_.openings[o].highest_of_piece) hem = static_cast<int32_t>(o);
-  }
+  const int32_t hem = hem_index_;
   ASSERT_GE(hem, 0);
   DrapeInput cuffed = Longer();
   cuffed.supports.cuffs = {hem};
